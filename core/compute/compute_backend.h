@@ -1,0 +1,31 @@
+// One interface, one method per kernel, for the CPU path (core/compute/cpu_backend) and
+// the Vulkan path (host/vulkan_backend). Stage drivers take a ComputeBackend& and never
+// know which one they hold.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "mc/marching_cubes_ref.h"
+
+namespace mpumesh {
+
+class ComputeBackend {
+ public:
+  virtual ~ComputeBackend() = default;
+  // "cpu" or "vulkan".
+  virtual std::string kind() const = 0;
+  // Human-readable device, e.g. "CPU (2 threads)" or "llvmpipe (LLVM 15.0.6, 256 bits) [cpu]".
+  virtual std::string device() const = 0;
+
+  // Marching cubes on a padded field; see core/mc/marching_cubes_ref.h for the output.
+  virtual mc::McMesh marching_cubes(const mc::McField& field) = 0;
+
+  // Time per kernel (ms) of the last call, measured on the device; may be empty.
+  const std::map<std::string, double>& kernel_ms() const { return kernel_ms_; }
+
+ protected:
+  std::map<std::string, double> kernel_ms_;
+};
+
+}  // namespace mpumesh

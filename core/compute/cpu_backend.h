@@ -1,0 +1,17 @@
+// The native CPU path: the reference kernels, threaded with TBB. It is what a machine
+// without a GPU runs, so its loops are kept vectorisable; it is also the oracle that the
+// shaders are tested against.
+#pragma once
+
+#include "compute/compute_backend.h"
+
+namespace mpumesh {
+
+class CpuBackend : public ComputeBackend {
+ public:
+  std::string kind() const override { return "cpu"; }
+  std::string device() const override;
+  mc::McMesh marching_cubes(const mc::McField& field) override;
+};
+
+}  // namespace mpumesh

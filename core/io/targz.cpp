@@ -1,0 +1,70 @@
+#include "io/targz.h"
+
+#include <zlib.h>
+
+#include <cstring>
+
+#include "common/error.h"
+
+namespace mpumesh {
+
+std::string gunzip(const std::string& gz, const std::string& name, uint64_t max_bytes) {
+  if (gz.size() < 18 || uint8_t(gz[0]) != 0x1f || uint8_t(gz[1]) != 0x8b)
+    throw InputError(name + ": not a gzip-compressed file (wrong magic)");
+  z_stream zs{};
+  if (inflateInit2(&zs, 15 + 32) != Z_OK) throw InputError(name + ": zlib initialisation failed");
+  std::string out;
+  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(gz.data()));
+  zs.avail_in = uInt(gz.size());
+  char buf[1 << 16];
+  int rc = Z_OK;
+  while (true) {
+    zs.next_out = reinterpret_cast<Bytef*>(buf);
+    zs.avail_out = sizeof buf;
+    rc = inflate(&zs, Z_NO_FLUSH);
+    if (rc != Z_OK && rc != Z_STREAM_END) break;
+    out.append(buf, sizeof buf - zs.avail_out);
+    if (out.size() > max_bytes) {
+      inflateEnd(&zs);
+      throw InputError(name + ": unpacks to more than " + std::to_string(max_bytes >> 20) + " MiB");
+    }
+    if (rc == Z_STREAM_END) {
+      if (zs.avail_in == 0) break;
+      inflateReset(&zs);  // another gzip member follows
+    }
+  }
+  inflateEnd(&zs);
+  if (rc != Z_STREAM_END) throw InputError(name + ": corrupt or truncated gzip data");
+  return out;
+}
+
+std::map<std::string, std::string> untar(const std::string& tar, const std::string& name) {
+  std::map<std::string, std::string> files;
+  size_t at = 0;
+  while (at + 512 <= tar.size()) {
+    const char* h = tar.data() + at;
+    if (h[0] == '\0') break;  // end-of-archive block
+    if (std::memcmp(h + 257, "ustar", 5) != 0)
+      throw InputError(name + ": not a tar archive (no ustar header at byte " + std::to_string(at) + ")");
+    std::string fname(h, strnlen(h, 100));
+    std::string prefix(h + 345, strnlen(h + 345, 155));
+    if (!prefix.empty()) fname = prefix + "/" + fname;
+    uint64_t size = 0;
+    for (int i = 124; i < 136 && h[i]; ++i) {
+      if (h[i] == ' ') continue;
+      if (h[i] < '0' || h[i] > '7') throw InputError(name + ": corrupt tar header (size field)");
+      size = size * 8 + uint64_t(h[i] - '0');
+    }
+    const char type = h[156];
+    at += 512;
+    if (size > tar.size() - at) throw InputError(name + ": truncated tar archive ('" + fname + "' is cut short)");
+    if (type == '0' || type == '\0') {
+      auto slash = fname.find_last_of('/');
+      files[slash == std::string::npos ? fname : fname.substr(slash + 1)] = tar.substr(at, size);
+    }
+    at += (size + 511) / 512 * 512;
+  }
+  return files;
+}
+
+}  // namespace mpumesh

@@ -1,0 +1,18 @@
+// Reads the regular files of a gzip-compressed tar archive (ustar/GNU headers) into
+// memory. Used for InVesalius .inv3 projects. Sizes are checked against the data, and the
+// total unpacked size is capped, so a hostile archive fails with InputError.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace mpumesh {
+
+// gunzip of a whole buffer (concatenated members allowed); InputError on corrupt data.
+std::string gunzip(const std::string& gz, const std::string& name, uint64_t max_bytes);
+
+// File name (without leading directories) to contents.
+std::map<std::string, std::string> untar(const std::string& tar, const std::string& name);
+
+}  // namespace mpumesh

@@ -1,0 +1,72 @@
+#include "io/volume_io.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "common/error.h"
+#include "io/itk_image_io.h"
+#include "io/read_file.h"
+
+namespace mpumesh {
+namespace {
+
+bool has_suffix(std::string s, const std::string& e) {
+  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+}
+
+Volume from_plain(PlainVolume&& p, const std::string& source) {
+  Volume v;
+  v.source = source;
+  v.dims = p.dims;
+  for (int a = 0; a < 3; ++a) {
+    v.spacing[a] = p.spacing[size_t(a)];
+    v.origin[a] = p.origin[size_t(a)];
+    for (int b = 0; b < 3; ++b) v.direction(a, b) = p.direction[size_t(3 * a + b)];
+  }
+  v.voxels = std::move(p.voxels);
+  v.modality = std::move(p.modality);
+  return v;
+}
+
+PlainVolume to_plain(const Volume& v) {
+  PlainVolume p;
+  p.dims = v.dims;
+  for (int a = 0; a < 3; ++a) {
+    p.spacing[size_t(a)] = v.spacing[a];
+    p.origin[size_t(a)] = v.origin[a];
+    for (int b = 0; b < 3; ++b) p.direction[size_t(3 * a + b)] = v.direction(a, b);
+  }
+  p.voxels = v.voxels;
+  p.modality = v.modality;
+  return p;
+}
+
+}  // namespace
+
+Volume read_volume(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path + ": file or directory not found");
+  Volume v;
+  if (fs::is_directory(path, ec)) v = from_plain(itk_read_dicom_series(path), path);
+  else if (has_suffix(path, ".inv3")) v = parse_inv3(read_file(path), path);
+  else v = from_plain(itk_read_file(path), path);
+  validate_volume(v, path);
+  for (float x : v.voxels)
+    if (!std::isfinite(x)) throw InputError(path + ": the volume holds NaN or infinite values");
+  return v;
+}
+
+void write_volume(const Volume& vol, const std::string& path) {
+  validate_volume(vol, path);
+  itk_write_file(to_plain(vol), path);
+}
+
+void write_dicom_series(const Volume& vol, const std::string& dir) {
+  validate_volume(vol, dir);
+  itk_write_dicom_series(to_plain(vol), dir);
+}
+
+}  // namespace mpumesh

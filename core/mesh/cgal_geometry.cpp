@@ -1,0 +1,114 @@
+#include "mesh/cgal_geometry.h"
+
+#include <CGAL/AABB_traits.h>
+#include <CGAL/AABB_tree.h>
+#include <CGAL/AABB_triangle_primitive.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+
+#include <iterator>
+
+#include "common/error.h"
+
+namespace mpumesh {
+namespace {
+
+using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = K::Point_3;
+using Triangle = K::Triangle_3;
+
+Point to_cgal(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
+
+}  // namespace
+
+int64_t count_self_intersections(const TriangleMesh& mesh) {
+  // CGAL 5.5 (Debian 12) has no triangle-soup variant of PMP::self_intersections, and the
+  // meshes measured here may be non-manifold; so: bounding-box pairs, then exact
+  // predicates by how many vertices the two triangles share, as PMP does internally.
+  std::vector<Point> pts;
+  pts.reserve(mesh.vertices.size());
+  for (const auto& v : mesh.vertices) pts.push_back(to_cgal(v));
+  using Box = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, size_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
+  std::vector<Box> boxes;
+  boxes.reserve(mesh.triangles.size());
+  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
+    const auto& t = mesh.triangles[f];
+    if (CGAL::collinear(pts[t[0]], pts[t[1]], pts[t[2]])) continue;  // degenerate: counted by topology
+    boxes.emplace_back(pts[t[0]].bbox() + pts[t[1]].bbox() + pts[t[2]].bbox(), f);
+  }
+  int64_t count = 0;
+  auto test = [&](const Box& ba, const Box& bb) {
+    const auto& a = mesh.triangles[ba.handle()];
+    const auto& b = mesh.triangles[bb.handle()];
+    int shared = 0, ia = -1, ib = -1;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (a[size_t(i)] == b[size_t(j)]) {
+          ++shared;
+          ia = i;
+          ib = j;
+        }
+    const Triangle ta(pts[a[0]], pts[a[1]], pts[a[2]]), tb(pts[b[0]], pts[b[1]], pts[b[2]]);
+    bool hit = false;
+    if (shared == 0) {
+      hit = CGAL::do_intersect(ta, tb);
+    } else if (shared == 1) {
+      // The edge opposite the shared vertex of either triangle must meet the other.
+      const K::Segment_3 sa(pts[a[size_t((ia + 1) % 3)]], pts[a[size_t((ia + 2) % 3)]]);
+      const K::Segment_3 sb(pts[b[size_t((ib + 1) % 3)]], pts[b[size_t((ib + 2) % 3)]]);
+      hit = CGAL::do_intersect(sa, tb) || CGAL::do_intersect(sb, ta);
+    } else if (shared == 2) {
+      // Sharing an edge: they overlap only when coplanar and folded onto the same side.
+      size_t oa = 0, ob = 0;
+      for (size_t i = 0; i < 3; ++i) {
+        if (a[i] != b[0] && a[i] != b[1] && a[i] != b[2]) oa = i;
+        if (b[i] != a[0] && b[i] != a[1] && b[i] != a[2]) ob = i;
+      }
+      const Point& p = pts[a[(oa + 1) % 3]];
+      const Point& q = pts[a[(oa + 2) % 3]];
+      hit = CGAL::coplanar(p, q, pts[a[oa]], pts[b[ob]]) &&
+            CGAL::coplanar_orientation(p, q, pts[a[oa]], pts[b[ob]]) == CGAL::POSITIVE;
+    } else {
+      hit = true;  // the same triangle twice
+    }
+    count += hit;
+  };
+  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), test);
+  return count;
+}
+
+DistanceSamples sample_distances(const TriangleMesh& from, const TriangleMesh& to) {
+  if (to.triangles.empty()) throw InputError("reference mesh has no triangles");
+  std::vector<Triangle> tris;
+  tris.reserve(to.triangles.size());
+  for (const auto& t : to.triangles) {
+    Triangle tr(to_cgal(to.vertices[t[0]]), to_cgal(to.vertices[t[1]]), to_cgal(to.vertices[t[2]]));
+    if (!tr.is_degenerate()) tris.push_back(tr);
+  }
+  using Prim = CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>;
+  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Prim>>;
+  Tree tree(tris.cbegin(), tris.cend());
+  tree.accelerate_distance_queries();
+  DistanceSamples s;
+  auto add = [&](const Eigen::Vector3d& p, double w) {
+    s.distance.push_back(std::sqrt(tree.squared_distance(to_cgal(p))));
+    s.weight.push_back(w);
+  };
+  // Vertices are shared: each gets one third of the area of its triangles; the interior
+  // points (barycentric 2/3,1/6,1/6 rotations) split the rest of each triangle.
+  std::vector<double> vw(from.vertices.size(), 0.0);
+  for (const auto& t : from.triangles) {
+    const Eigen::Vector3d &a = from.vertices[t[0]], &b = from.vertices[t[1]], &c = from.vertices[t[2]];
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    for (uint32_t v : t) vw[v] += area / 6.0;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d& p0 = k == 0 ? a : k == 1 ? b : c;
+      add((2.0 / 3.0) * p0 + (1.0 / 6.0) * (a + b + c - p0), area / 6.0);
+    }
+  }
+  for (size_t v = 0; v < from.vertices.size(); ++v)
+    if (vw[v] > 0) add(from.vertices[v], vw[v]);
+  return s;
+}
+
+}  // namespace mpumesh

@@ -1,0 +1,23 @@
+// The two mesh measurements that need CGAL (kept in one file for compile time):
+// self-intersecting triangle pairs and distances from one surface to another.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "mesh/triangle_mesh.h"
+
+namespace mpumesh {
+
+// Pairs of triangles that intersect other than through shared vertices or edges
+// (CGAL Polygon_mesh_processing::self_intersections on the triangle soup).
+int64_t count_self_intersections(const TriangleMesh& mesh);
+
+// Distance (mm) from sample points of `from` to the surface `to`, with each sample's
+// area weight: per triangle its three vertices' area share and three interior points.
+struct DistanceSamples {
+  std::vector<double> distance, weight;
+};
+DistanceSamples sample_distances(const TriangleMesh& from, const TriangleMesh& to);
+
+}  // namespace mpumesh

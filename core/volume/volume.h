@@ -1,0 +1,36 @@
+// A scalar image volume in its physical frame: voxels (x fastest, then y, then z), the
+// spacing in mm, the origin (physical position of voxel 0,0,0) and the direction cosines
+// (columns are the physical directions of the index axes). CT volumes hold Hounsfield units.
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mpumesh {
+
+struct Volume {
+  std::array<int64_t, 3> dims{0, 0, 0};  // voxels along x, y, z
+  Eigen::Vector3d spacing{1, 1, 1};       // mm
+  Eigen::Vector3d origin{0, 0, 0};        // mm
+  Eigen::Matrix3d direction = Eigen::Matrix3d::Identity();
+  std::vector<float> voxels;              // dims[0]*dims[1]*dims[2] values
+  std::string modality;                   // "CT", "MR", ... when the file says
+  std::string source;                     // the path it was read from
+
+  int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
+  int64_t index(int64_t i, int64_t j, int64_t k) const { return i + dims[0] * (j + dims[1] * k); }
+  float at(int64_t i, int64_t j, int64_t k) const { return voxels[size_t(index(i, j, k))]; }
+
+  // Continuous index (i, j, k) to physical millimetres.
+  Eigen::Vector3d index_to_physical(const Eigen::Vector3d& ijk) const {
+    return origin + direction * ijk.cwiseProduct(spacing);
+  }
+};
+
+// Checks the invariants every stage relies on; throws InputError naming `what`.
+void validate_volume(const Volume& v, const std::string& what);
+
+}  // namespace mpumesh

@@ -1,0 +1,49 @@
+#include "vulkan_backend.h"
+
+#include "common/error.h"
+#include "compute/cpu_backend.h"
+#include "kernels/mc_vk.h"
+#include "vk/vk_check.h"
+
+namespace mpumesh::vk {
+
+VulkanBackend::VulkanBackend(const ContextOptions& opt) : ctx_(opt) {}
+VulkanBackend::~VulkanBackend() = default;
+
+std::string VulkanBackend::device() const { return ctx_.info().name + " [" + ctx_.info().type + "]"; }
+
+mc::McMesh VulkanBackend::marching_cubes(const mc::McField& field) {
+  if (!mc_) mc_ = std::make_unique<McKernel>(ctx_);
+  kernel_ms_.clear();
+  return mc_->run(field, kernel_ms_);
+}
+
+BackendChoice make_backend(const std::string& name, int device_index) {
+  BackendChoice c;
+  if (name == "cpu") {
+    c.backend = std::make_unique<CpuBackend>();
+    return c;
+  }
+  if (name == "gpu") {
+    ContextOptions opt;
+    opt.device_index = device_index;
+    c.backend = std::make_unique<VulkanBackend>(opt);
+    return c;
+  }
+  if (name != "auto") throw InputError("--backend: '" + name + "' is not cpu, gpu or auto");
+  try {
+    ContextOptions opt;
+    opt.device_index = device_index;
+    opt.hardware_only = device_index < 0;
+    c.backend = std::make_unique<VulkanBackend>(opt);
+  } catch (const NoVulkanDevice& e) {
+    c.backend = std::make_unique<CpuBackend>();
+    c.note = std::string("no hardware Vulkan device (") + e.what() + "): using the native CPU path";
+  } catch (const VulkanError& e) {
+    c.backend = std::make_unique<CpuBackend>();
+    c.note = std::string("Vulkan device creation failed (") + e.what() + "): using the native CPU path";
+  }
+  return c;
+}
+
+}  // namespace mpumesh::vk

@@ -1,0 +1,40 @@
+// The Vulkan implementation of ComputeBackend, and the choice of backend that the tools
+// offer: --backend cpu | gpu | auto. `auto` takes a hardware Vulkan device when there is
+// one and the native CPU path otherwise (lavapipe runs shaders well below vectorised C++;
+// it serves for validation, by `--backend gpu`).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "compute/compute_backend.h"
+#include "vk/context.h"
+
+namespace mpumesh::vk {
+
+class McKernel;
+
+class VulkanBackend : public ComputeBackend {
+ public:
+  explicit VulkanBackend(const ContextOptions& opt = {});
+  ~VulkanBackend() override;
+  std::string kind() const override { return "vulkan"; }
+  std::string device() const override;
+  mc::McMesh marching_cubes(const mc::McField& field) override;
+  Context& context() { return ctx_; }
+
+ private:
+  Context ctx_;
+  std::unique_ptr<McKernel> mc_;
+};
+
+struct BackendChoice {
+  std::unique_ptr<ComputeBackend> backend;
+  std::string note;  // why this one (e.g. "no hardware Vulkan device: using the CPU path")
+};
+
+// name: "cpu", "gpu" or "auto"; device_index -1 for the default device.
+// "gpu" throws NoVulkanDevice when no Vulkan device can be created.
+BackendChoice make_backend(const std::string& name, int device_index = -1);
+
+}  // namespace mpumesh::vk

@@ -1,0 +1,188 @@
+// mpumesh mc, quality and run: the marching-cubes baseline and the quality report. `run`
+// grows with the pipeline; until the MPU and particle stages exist it runs the
+// marching-cubes baseline and reports its quality.
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+#include "commands.h"
+#include "common/error.h"
+#include "io/atomic_file.h"
+#include "io/mesh_io.h"
+#include "io/volume_io.h"
+#include "mc/marching_cubes.h"
+#include "mesh/quality.h"
+#include "progress.h"
+#include "vulkan_backend.h"
+
+namespace mpumesh::tools {
+namespace {
+
+struct MeshJob {
+  std::string input, output, threshold = "226", backend = "auto", report;
+  int device = -1;
+  bool self_intersections = true;
+};
+
+void add_backend_options(CLI::App* cmd, MeshJob& job) {
+  cmd->add_option("--backend", job.backend, "cpu, gpu (Vulkan) or auto (a hardware GPU if any, else cpu)")
+      ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
+      ->capture_default_str();
+  cmd->add_option("--device", job.device, "Vulkan device index (see `mpumesh devices`)");
+}
+
+void add_common(CLI::App* cmd, CommonOptions& common) {
+  cmd->add_flag("--quiet,-q", common.quiet, "print nothing but errors");
+  cmd->add_flag("--json", common.json, "print a JSON summary on stdout");
+}
+
+void write_json_file(const nlohmann::json& j, const std::string& path) {
+  AtomicFile out(path);
+  {
+    std::ofstream os(out.temp_path());
+    os << j.dump(2) << '\n';
+    if (!os) throw InputError(path + ": write failed");
+  }
+  out.commit();
+}
+
+// Reads, meshes and writes; returns the summary (and fills `mesh`).
+nlohmann::json run_mc(const MeshJob& job, const CommonOptions& common, Progress& progress, TriangleMesh& mesh) {
+  check_writable(job.output);
+  mesh_format_from_path(job.output);
+  if (!job.report.empty()) check_writable(job.report);
+  const mc::ThresholdRange range = mc::parse_threshold(job.threshold);
+  progress.begin("read volume");
+  Volume vol = read_volume(job.input);
+  progress.end();
+  progress.begin("backend");
+  vk::BackendChoice choice = vk::make_backend(job.backend, job.device);
+  progress.end();
+  if (!choice.note.empty() && !common.quiet) std::fprintf(stderr, "mpumesh: %s\n", choice.note.c_str());
+  progress.note("device: " + choice.backend->device());
+  progress.begin("marching cubes");
+  mesh = marching_cubes(vol, range, *choice.backend);
+  progress.end();
+  progress.begin("write mesh");
+  write_mesh(mesh, job.output);
+  progress.end();
+  nlohmann::json j;
+  j["input"] = {{"path", job.input},
+                {"dims", vol.dims},
+                {"spacing_mm", {vol.spacing.x(), vol.spacing.y(), vol.spacing.z()}},
+                {"modality", vol.modality}};
+  j["threshold"] = {{"lo", range.lo}, {"hi", std::isinf(range.hi) ? nlohmann::json() : nlohmann::json(range.hi)}};
+  j["backend"] = {{"kind", choice.backend->kind()}, {"device", choice.backend->device()}, {"note", choice.note}};
+  j["kernel_ms"] = choice.backend->kernel_ms();
+  j["output"] = job.output;
+  j["vertices"] = mesh.vertices.size();
+  j["triangles"] = mesh.triangles.size();
+  return j;
+}
+
+nlohmann::json stage_json(const Progress& p) {
+  nlohmann::json s = nlohmann::json::object();
+  for (const auto& [name, sec] : p.stage_seconds()) s[name] = sec;
+  return s;
+}
+
+}  // namespace
+
+void add_mc_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  auto job = std::make_shared<MeshJob>();
+  auto* cmd = app.add_subcommand("mc", "Marching cubes on the thresholded volume (the voxel-level baseline)");
+  cmd->add_option("input", job->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
+  cmd->add_option("-o,--output", job->output, "mesh: .ply, .stl, .obj or .off")->required();
+  cmd->add_option("--threshold", job->threshold, "inside range LO or LO:HI (HU for CT)")->capture_default_str();
+  add_backend_options(cmd, *job);
+  add_common(cmd, common);
+  cmd->callback([&common, &action, job] {
+    action = [&common, job] {
+      Progress progress(common.quiet || common.json);
+      TriangleMesh mesh;
+      nlohmann::json j = run_mc(*job, common, progress, mesh);
+      j["stage_seconds"] = stage_json(progress);
+      const Topology t = analyze_topology(mesh);
+      j["closed"] = t.closed;
+      j["manifold"] = t.manifold;
+      j["components"] = t.components;
+      if (common.json) std::cout << j.dump(2) << '\n';
+      else if (!common.quiet)
+        std::cout << fmt::format("{}: {} vertices, {} triangles, {} components, closed {}, manifold {} ({})\n",
+                                 job->output, mesh.vertices.size(), mesh.triangles.size(), t.components,
+                                 t.closed ? "yes" : "no", t.manifold ? "yes" : "no",
+                                 j["backend"]["device"].get<std::string>());
+    };
+  });
+}
+
+void add_quality_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  struct Opts {
+    std::string mesh, reference;
+    bool no_self = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("quality", "Topology, triangle quality, smoothness and distances of a mesh");
+  cmd->add_option("mesh", o->mesh, "mesh: .ply, .stl, .obj or .off")->required();
+  cmd->add_option("--reference", o->reference, "reference mesh for Hausdorff and mean distances (mm)");
+  cmd->add_flag("--no-self-intersections", o->no_self, "skip the self-intersection test (slow on huge meshes)");
+  add_common(cmd, common);
+  cmd->callback([&common, &action, o] {
+    action = [&common, o] {
+      TriangleMesh mesh = read_mesh(o->mesh);
+      TriangleMesh ref;
+      QualityOptions opt;
+      opt.self_intersections = !o->no_self;
+      if (!o->reference.empty()) {
+        ref = read_mesh(o->reference);
+        opt.reference = &ref;
+      }
+      const Quality q = measure_quality(mesh, opt);
+      if (common.json) {
+        nlohmann::json j = quality_to_json(q);
+        j["mesh"] = o->mesh;
+        std::cout << j.dump(2) << '\n';
+      } else if (!common.quiet) {
+        std::cout << o->mesh << "\n" << quality_to_text(q);
+      }
+    };
+  });
+}
+
+void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  auto job = std::make_shared<MeshJob>();
+  auto* cmd = app.add_subcommand(
+      "run", "CT/MR volume to mesh with a quality report (for now: the marching-cubes baseline; the MPU and "
+             "particle stages are not built yet)");
+  cmd->add_option("input", job->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
+  cmd->add_option("-o,--output", job->output, "mesh: .ply, .stl, .obj or .off")->required();
+  cmd->add_option("--threshold", job->threshold, "inside range LO or LO:HI (HU for CT)")->capture_default_str();
+  cmd->add_option("--report", job->report, "write the JSON report here");
+  cmd->add_flag("!--no-self-intersections", job->self_intersections, "skip the self-intersection test");
+  add_backend_options(cmd, *job);
+  add_common(cmd, common);
+  cmd->callback([&common, &action, job] {
+    action = [&common, job] {
+      Progress progress(common.quiet || common.json);
+      TriangleMesh mesh;
+      nlohmann::json j = run_mc(*job, common, progress, mesh);
+      progress.begin("quality");
+      QualityOptions opt;
+      opt.self_intersections = job->self_intersections;
+      const Quality q = measure_quality(mesh, opt);
+      progress.end();
+      j["pipeline"] = "marching-cubes baseline";
+      j["quality"] = quality_to_json(q);
+      j["stage_seconds"] = stage_json(progress);
+      j["version"] = MPUMESH_VERSION;
+      if (!job->report.empty()) write_json_file(j, job->report);
+      if (common.json) std::cout << j.dump(2) << '\n';
+      else if (!common.quiet) std::cout << job->output << "\n" << quality_to_text(q);
+    };
+  });
+}
+
+}  // namespace mpumesh::tools

@@ -1,0 +1,76 @@
+// mpumesh devices (the Vulkan devices and the one each backend choice takes) and
+// mpumesh convert (volume format conversion, also to a DICOM series).
+#include <fmt/format.h>
+
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "common/error.h"
+#include "io/volume_io.h"
+#include "vk/context.h"
+
+namespace mpumesh::tools {
+
+void add_devices_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  auto* cmd = app.add_subcommand("devices", "List the Vulkan devices and the one each --backend would use");
+  cmd->add_flag("--json", common.json, "print JSON");
+  cmd->callback([&common, &action] {
+    action = [&common] {
+      const auto devs = vk::list_devices();
+      const int hw = vk::default_device_index(devs, true);
+      const int any = vk::default_device_index(devs, false);
+      if (common.json) {
+        nlohmann::json j;
+        j["devices"] = nlohmann::json::array();
+        for (const auto& d : devs)
+          j["devices"].push_back({{"index", d.index},
+                                  {"name", d.name},
+                                  {"type", d.type},
+                                  {"api", fmt::format("{}.{}.{}", VK_API_VERSION_MAJOR(d.api_version),
+                                                      VK_API_VERSION_MINOR(d.api_version),
+                                                      VK_API_VERSION_PATCH(d.api_version))},
+                                  {"device_local_mib", d.device_local_bytes >> 20},
+                                  {"compute", d.has_compute}});
+        j["gpu"] = any;
+        j["auto"] = hw >= 0 ? nlohmann::json(hw) : nlohmann::json("cpu");
+        std::cout << j.dump(2) << '\n';
+        return;
+      }
+      if (devs.empty()) std::cout << "no Vulkan device found (install mesa-vulkan-drivers for the software device)\n";
+      for (const auto& d : devs)
+        std::cout << fmt::format("{}: {} [{}], Vulkan {}.{}, {} MiB device-local{}\n", d.index, d.name, d.type,
+                                 VK_API_VERSION_MAJOR(d.api_version), VK_API_VERSION_MINOR(d.api_version),
+                                 d.device_local_bytes >> 20, d.has_compute ? "" : ", no compute queue");
+      std::cout << "--backend gpu  uses " << (any >= 0 ? fmt::format("device {}", any) : std::string("nothing (fails)"))
+                << "\n--backend auto uses "
+                << (hw >= 0 ? fmt::format("device {}", hw) : std::string("the native CPU path (no hardware GPU)")) << "\n";
+    };
+  });
+}
+
+void add_convert_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  struct Opts {
+    std::string input, output;
+    bool dicom = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("convert", "Convert a volume (e.g. an InVesalius .inv3) to NIfTI, NRRD, "
+                                            "MetaImage or a DICOM series");
+  cmd->add_option("input", o->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
+  cmd->add_option("-o,--output", o->output, ".nii, .nii.gz, .nrrd, .mha, or a directory with --dicom")->required();
+  cmd->add_flag("--dicom", o->dicom, "write a DICOM series (one file per slice) into the output directory");
+  cmd->add_flag("--quiet,-q", common.quiet, "print nothing but errors");
+  cmd->callback([&common, &action, o] {
+    action = [&common, o] {
+      Volume v = read_volume(o->input);
+      if (o->dicom) write_dicom_series(v, o->output);
+      else write_volume(v, o->output);
+      if (!common.quiet)
+        std::cout << fmt::format("{}: {} x {} x {} voxels, spacing {:.4f} x {:.4f} x {:.4f} mm\n", o->output,
+                                 v.dims[0], v.dims[1], v.dims[2], v.spacing.x(), v.spacing.y(), v.spacing.z());
+    };
+  });
+}
+
+}  // namespace mpumesh::tools

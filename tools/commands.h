@@ -1,0 +1,23 @@
+// The subcommands of `mpumesh`, each registered on the CLI11 app with its options and run
+// through run_command() (which catches, prints one line and sets the exit code).
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <string>
+
+namespace mpumesh::tools {
+
+struct CommonOptions {
+  bool quiet = false;
+  bool json = false;
+};
+
+// Each returns the callback that runs the command once CLI11 has parsed the arguments.
+void add_devices_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_mc_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_quality_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_convert_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+
+}  // namespace mpumesh::tools
