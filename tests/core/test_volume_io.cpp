@@ -1,0 +1,131 @@
+// Volume files: the InVesalius reader's parts (plist, tar.gz), and on the real sample CT:
+// .inv3, MetaImage, NIfTI, NRRD and a DICOM series give identical voxels and geometry.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.h"
+#include "io/plist.h"
+#include "io/read_file.h"
+#include "io/targz.h"
+#include "io/volume_io.h"
+#include "test_support.h"
+
+namespace mpumesh {
+namespace {
+
+void expect_same_volume(const Volume& a, const Volume& b) {
+  ASSERT_EQ(a.dims, b.dims);
+  EXPECT_LT((a.spacing - b.spacing).norm(), 1e-5);
+  EXPECT_LT((a.origin - b.origin).norm(), 1e-4);
+  EXPECT_LT((a.direction - b.direction).norm(), 1e-6);
+  size_t differ = 0;
+  for (size_t i = 0; i < a.voxels.size(); ++i) differ += a.voxels[i] != b.voxels[i];
+  EXPECT_EQ(differ, 0u);
+}
+
+TEST(Plist, ParsesInVesaliusMain) {
+  const auto v = plist::parse(
+      "<?xml version=\"1.0\"?><plist version=\"1.0\"><dict><key>shape</key><array><integer>3</integer>"
+      "<integer>4</integer></array><key>spacing</key><real>0.5</real><key>name</key><string>A &amp; B</string>"
+      "<key>on</key><true/><key>empty</key><dict></dict></dict></plist>",
+      "main.plist");
+  EXPECT_EQ(v.at("shape", "d").array.size(), 2u);
+  EXPECT_DOUBLE_EQ(v.at("spacing", "d").as_number("d"), 0.5);
+  EXPECT_EQ(v.at("name", "d").as_string("d"), "A & B");
+  EXPECT_THROW(v.at("missing", "d"), InputError);
+  EXPECT_THROW(plist::parse("<plist><dict><key>a</key><integer>x</integer></dict></plist>", "bad"), InputError);
+  EXPECT_THROW(plist::parse("<plist><dict><key>a</key>", "cut"), InputError);
+  EXPECT_THROW(plist::parse("not xml", "junk"), InputError);
+}
+
+TEST(TarGz, RefusesCorruptArchives) {
+  EXPECT_THROW(gunzip("hello world, not gzip", "x.inv3", 1 << 20), InputError);
+  std::string gz = "\x1f\x8b\x08\x00\x00\x00\x00\x00\x00\x03" + std::string(20, '\x55');
+  EXPECT_THROW(gunzip(gz, "x.inv3", 1 << 20), InputError);
+  EXPECT_THROW(untar(std::string(1024, 'x'), "x.tar"), InputError);
+  EXPECT_THROW(parse_inv3("", "empty.inv3"), InputError);
+}
+
+TEST(VolumeIo, MissingAndUnknownFiles) {
+  EXPECT_THROW(read_volume("/nonexistent/ct.nii"), InputError);
+  const std::string dir = test::temp_dir("unknown");
+  {
+    std::ofstream(dir + "/a.xyz") << "1 2 3\n";
+    std::ofstream(dir + "/b.nii") << "";
+    std::ofstream(dir + "/c.mha") << "this is not a MetaImage\n";
+  }
+  EXPECT_THROW(read_volume(dir + "/a.xyz"), InputError);
+  EXPECT_THROW(read_volume(dir + "/b.nii"), InputError);
+  EXPECT_THROW(read_volume(dir + "/c.mha"), InputError);
+  EXPECT_THROW(read_volume(dir), InputError);  // a directory with no DICOM
+}
+
+TEST(VolumeIo, PhantomRoundTripsThroughEveryWriter) {
+  Volume v = test::sphere_volume({17, 13, 9}, {0.5, 0.7, 2.0}, {4, 4, 8}, 3.0);
+  v.origin = {-10, 20.5, 3};
+  const std::string dir = test::temp_dir("phantom");
+  for (const char* ext : {".mha", ".nii.gz", ".nrrd", ".nii"}) {
+    const std::string p = dir + "/v" + ext;
+    write_volume(v, p);
+    SCOPED_TRACE(ext);
+    expect_same_volume(v, read_volume(p));
+  }
+  EXPECT_THROW(write_volume(v, dir + "/v.mhd"), InputError);
+}
+
+TEST(VolumeIo, SampleCtIsTheSameInEveryFormat) {
+  MPUMESH_SAMPLE_CT_OR_SKIP(ct);
+  const Volume inv3 = read_volume(ct);
+  EXPECT_EQ(inv3.dims, (std::array<int64_t, 3>{256, 256, 108}));
+  EXPECT_NEAR(inv3.spacing.x(), 0.957, 1e-3);
+  EXPECT_NEAR(inv3.spacing.z(), 1.5, 1e-9);
+  EXPECT_EQ(inv3.modality, "CT");
+  EXPECT_EQ(*std::min_element(inv3.voxels.begin(), inv3.voxels.end()), -1024.0f);
+  const std::string dir = test::temp_dir("sample");
+  for (const char* ext : {".mha", ".nii.gz", ".nrrd"}) {
+    SCOPED_TRACE(ext);
+    write_volume(inv3, dir + "/ct" + ext);
+    expect_same_volume(inv3, read_volume(dir + "/ct" + ext));
+  }
+  write_dicom_series(inv3, dir + "/dicom");
+  const Volume dcm = read_volume(dir + "/dicom");
+  expect_same_volume(inv3, dcm);
+  EXPECT_EQ(dcm.modality, "CT");
+  // Slices ordered by position, not by file name: reverse the names and read again.
+  const std::string rev = dir + "/reversed";
+  std::filesystem::create_directories(rev);
+  for (int k = 0; k < 108; ++k) {
+    char from[64], to[64];
+    std::snprintf(from, sizeof from, "/dicom/slice%04d.dcm", k);
+    std::snprintf(to, sizeof to, "/reversed/img%04d.dcm", 107 - k);
+    std::filesystem::copy_file(dir + from, dir + to);
+  }
+  expect_same_volume(inv3, read_volume(rev));
+  // A missing slice makes the spacing irregular: refused with a clear message.
+  std::filesystem::remove(rev + "/img0050.dcm");
+  try {
+    read_volume(rev);
+    FAIL() << "expected irregular spacing to be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("irregular slice spacing"), std::string::npos) << e.what();
+  }
+}
+
+TEST(VolumeIo, RealDicomFileFromPydicom) {
+  const std::string f = test::pydicom_file("CT_small.dcm");
+  if (f.empty()) {
+    if (test::env_flag("MPUMESH_REQUIRE_DATA")) FAIL() << "python3-pydicom test files missing";
+    GTEST_SKIP() << "python3-pydicom test files missing";
+  }
+  const Volume v = read_volume(f);
+  EXPECT_EQ(v.dims, (std::array<int64_t, 3>{128, 128, 1}));
+  EXPECT_EQ(v.modality, "CT");
+  EXPECT_NEAR(v.spacing.x(), 0.661468, 1e-5);
+  // Rescale slope/intercept applied: HU, not stored values.
+  EXPECT_LT(*std::min_element(v.voxels.begin(), v.voxels.end()), 0.0f);
+}
+
+}  // namespace
+}  // namespace mpumesh

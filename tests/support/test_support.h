@@ -1,0 +1,60 @@
+// Shared test fixtures: analytic phantoms and meshes whose answers are known, the Vulkan
+// backend with validation on (skipped when no device exists, a failure when CI sets
+// MPUMESH_REQUIRE_VULKAN=1), and the real sample data from Debian packages.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+#include "mesh/triangle_mesh.h"
+#include "volume/volume.h"
+#include "vulkan_backend.h"
+
+namespace mpumesh::test {
+
+bool env_flag(const char* name);
+
+// A Vulkan backend with validation layers on, or null with the reason in `why`.
+std::unique_ptr<vk::VulkanBackend> try_vulkan(std::string& why);
+
+// Expects that the backend's validation layer reported nothing.
+void expect_no_validation_messages(vk::VulkanBackend& b);
+
+// A ball of radius r (mm) at `centre`, smooth intensity: 1000 at the centre side of the
+// surface, -1000 outside, linear across one voxel, so the 0 isosurface is the sphere.
+Volume sphere_volume(std::array<int64_t, 3> dims, Eigen::Vector3d spacing, Eigen::Vector3d centre, double r);
+
+// Random binary volume (values +-100), fixed seed.
+Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed);
+
+TriangleMesh icosahedron(double edge);      // regular, outward
+TriangleMesh unit_cube();                   // 12 triangles, [0,1]^3, outward
+TriangleMesh icosphere(double r, int subdivisions);
+
+// The InVesalius head CT (invesalius-examples), or "" with the test skipped; with
+// MPUMESH_REQUIRE_DATA=1 a missing file fails instead.
+std::string sample_ct_or_skip();
+std::string pydicom_file(const std::string& name);  // from python3-pydicom, or ""
+
+// A fresh empty directory under the test temp dir.
+std::string temp_dir(const std::string& name);
+
+}  // namespace mpumesh::test
+
+#define MPUMESH_VULKAN_OR_SKIP(var)                                                            \
+  std::string var##_why;                                                                       \
+  auto var = ::mpumesh::test::try_vulkan(var##_why);                                           \
+  if (!var) {                                                                                  \
+    if (::mpumesh::test::env_flag("MPUMESH_REQUIRE_VULKAN")) FAIL() << var##_why;              \
+    GTEST_SKIP() << var##_why;                                                                 \
+  }
+
+#define MPUMESH_SAMPLE_CT_OR_SKIP(var)                                                         \
+  const std::string var = ::mpumesh::test::sample_ct_or_skip();                                \
+  if (var.empty()) {                                                                           \
+    if (::mpumesh::test::env_flag("MPUMESH_REQUIRE_DATA"))                                     \
+      FAIL() << "sample CT missing: install invesalius-examples";                              \
+    GTEST_SKIP() << "sample CT missing: install invesalius-examples";                          \
+  }
