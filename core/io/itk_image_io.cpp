@@ -22,6 +22,7 @@
 
 #include "common/error.h"
 #include "io/atomic_file.h"
+#include "io/dicom_pixel_check.h"
 
 namespace mpumesh {
 namespace {
@@ -110,6 +111,7 @@ PlainVolume read_series_impl(const std::string& dir) {
                      " DICOM series; put one series per directory");
   const auto files = names->GetFileNames(uids.front());
   if (files.size() < 2) throw InputError(dir + ": the DICOM series has a single slice; a volume needs several");
+  for (const auto& f : files) check_dicom_pixel_data_file(f);
   using Reader = itk::ImageSeriesReader<FloatImage>;
   auto reader = Reader::New();
   auto gdcm = itk::GDCMImageIO::New();
@@ -191,6 +193,7 @@ PlainVolume itk_read_file(const std::string& path) {
   if (fs::file_size(path, ec) == 0) throw InputError(path + ": file is empty");
   if (!io->CanReadFile(path.c_str()))
     throw InputError(path + ": not a valid " + io->GetNameOfClass() + " file (wrong magic or header)");
+  if (dynamic_cast<itk::GDCMImageIO*>(io.GetPointer())) check_dicom_pixel_data_file(path);
   try {
     auto reader = itk::ImageFileReader<FloatImage>::New();
     reader->SetImageIO(io);

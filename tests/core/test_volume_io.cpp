@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "common/error.h"
+#include "io/dicom_pixel_check.h"
 #include "io/plist.h"
 #include "io/read_file.h"
 #include "io/targz.h"
@@ -125,6 +126,36 @@ TEST(VolumeIo, RealDicomFileFromPydicom) {
   EXPECT_NEAR(v.spacing.x(), 0.661468, 1e-5);
   // Rescale slope/intercept applied: HU, not stored values.
   EXPECT_LT(*std::min_element(v.voxels.begin(), v.voxels.end()), 0.0f);
+}
+
+}  // namespace
+}  // namespace mpumesh
+
+namespace mpumesh {
+namespace {
+
+TEST(VolumeIo, TruncatedDicomIsRefused) {
+  const std::string cut = test::pydicom_file("MR_truncated.dcm");
+  const std::string whole = test::pydicom_file("MR_small.dcm");
+  const std::string implicit = test::pydicom_file("MR_small_implicit.dcm");
+  const std::string big = test::pydicom_file("MR_small_bigendian.dcm");
+  if (cut.empty() || whole.empty()) {
+    if (test::env_flag("MPUMESH_REQUIRE_DATA")) FAIL() << "python3-pydicom test files missing";
+    GTEST_SKIP() << "python3-pydicom test files missing";
+  }
+  try {
+    read_volume(cut);
+    FAIL() << "expected the truncated file to be refused";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("MR_truncated.dcm: truncated DICOM"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read_volume(whole).dims, (std::array<int64_t, 3>{64, 64, 1}));
+  for (const std::string& f : {implicit, big}) EXPECT_NO_THROW(check_dicom_pixel_data(read_file(f), f)) << f;
+  // Cutting any whole file short is caught, whatever the transfer syntax.
+  for (const std::string& f : {whole, implicit, big}) {
+    const std::string b = read_file(f);
+    EXPECT_THROW(check_dicom_pixel_data(b.substr(0, b.size() - 300), f), InputError) << f;
+  }
 }
 
 }  // namespace

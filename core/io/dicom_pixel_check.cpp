@@ -1,0 +1,61 @@
+#include "io/dicom_pixel_check.h"
+
+#include <cstdint>
+#include <cstring>
+
+#include "common/error.h"
+#include "io/read_file.h"
+
+namespace mpumesh {
+namespace {
+
+bool is_pixel_vr(const char* p) {
+  return p[0] == 'O' && (p[1] == 'B' || p[1] == 'W') && p[2] == 0 && p[3] == 0;
+}
+
+uint32_t read_u32(const char* p, bool big) {
+  const auto* u = reinterpret_cast<const unsigned char*>(p);
+  return big ? (uint32_t(u[0]) << 24 | uint32_t(u[1]) << 16 | uint32_t(u[2]) << 8 | u[3])
+             : (uint32_t(u[3]) << 24 | uint32_t(u[2]) << 16 | uint32_t(u[1]) << 8 | u[0]);
+}
+
+}  // namespace
+
+void check_dicom_pixel_data(const std::string& b, const std::string& name) {
+  // The last header of (7FE0,0010) that parses is the image's pixel data (icon images in
+  // sequences come before it). Little-endian tag bytes E0 7F 10 00, big-endian 7F E0 00 10.
+  size_t value_start = 0;
+  uint64_t declared = 0;
+  bool found = false;
+  for (bool big : {false, true}) {
+    const char tag[4] = {big ? '\x7f' : '\xe0', big ? '\xe0' : '\x7f', big ? '\x00' : '\x10', big ? '\x10' : '\x00'};
+    for (size_t at = b.find(std::string(tag, 4)); at != std::string::npos; at = b.find(std::string(tag, 4), at + 1)) {
+      if (at + 8 > b.size()) break;
+      size_t start;
+      uint32_t len;
+      if (at + 12 <= b.size() && is_pixel_vr(b.data() + at + 4)) {  // explicit VR
+        start = at + 12;
+        len = read_u32(b.data() + at + 8, big);
+      } else if (!big) {  // implicit VR little endian
+        start = at + 8;
+        len = read_u32(b.data() + at + 4, false);
+        if (len % 2 != 0 && len != 0xFFFFFFFFu) continue;
+      } else {
+        continue;
+      }
+      // A match inside the value of the pixel data already found is payload, not a header.
+      if (found && declared != 0xFFFFFFFFu && at < value_start + declared) continue;
+      value_start = start;
+      declared = len;
+      found = true;
+    }
+  }
+  if (!found || declared == 0xFFFFFFFFu) return;
+  if (value_start + declared > b.size())
+    throw InputError(name + ": truncated DICOM: the pixel data declares " + std::to_string(declared) +
+                     " bytes but the file holds only " + std::to_string(b.size() - value_start));
+}
+
+void check_dicom_pixel_data_file(const std::string& path) { check_dicom_pixel_data(read_file(path), path); }
+
+}  // namespace mpumesh
