@@ -1,7 +1,6 @@
 #include "io/dicom_pixel_check.h"
 
 #include <cstdint>
-#include <cstring>
 
 #include "common/error.h"
 #include "io/read_file.h"
@@ -28,8 +27,8 @@ void check_dicom_pixel_data(const std::string& b, const std::string& name) {
   uint64_t declared = 0;
   bool found = false;
   for (bool big : {false, true}) {
-    const char tag[4] = {big ? '\x7f' : '\xe0', big ? '\xe0' : '\x7f', big ? '\x00' : '\x10', big ? '\x10' : '\x00'};
-    for (size_t at = b.find(std::string(tag, 4)); at != std::string::npos; at = b.find(std::string(tag, 4), at + 1)) {
+    const std::string tag = big ? std::string("\x7f\xe0\x00\x10", 4) : std::string("\xe0\x7f\x10\x00", 4);
+    for (size_t at = b.find(tag); at != std::string::npos; at = b.find(tag, at + 1)) {
       if (at + 8 > b.size()) break;
       size_t start;
       uint32_t len;

@@ -115,11 +115,7 @@ TEST(VolumeIo, SampleCtIsTheSameInEveryFormat) {
 }
 
 TEST(VolumeIo, RealDicomFileFromPydicom) {
-  const std::string f = test::pydicom_file("CT_small.dcm");
-  if (f.empty()) {
-    if (test::env_flag("MPUMESH_REQUIRE_DATA")) FAIL() << "python3-pydicom test files missing";
-    GTEST_SKIP() << "python3-pydicom test files missing";
-  }
+  MPUMESH_DATA_OR_SKIP(f, test::pydicom_file("CT_small.dcm"), "python3-pydicom");
   const Volume v = read_volume(f);
   EXPECT_EQ(v.dims, (std::array<int64_t, 3>{128, 128, 1}));
   EXPECT_EQ(v.modality, "CT");
@@ -135,14 +131,10 @@ namespace mpumesh {
 namespace {
 
 TEST(VolumeIo, TruncatedDicomIsRefused) {
-  const std::string cut = test::pydicom_file("MR_truncated.dcm");
-  const std::string whole = test::pydicom_file("MR_small.dcm");
-  const std::string implicit = test::pydicom_file("MR_small_implicit.dcm");
-  const std::string big = test::pydicom_file("MR_small_bigendian.dcm");
-  if (cut.empty() || whole.empty()) {
-    if (test::env_flag("MPUMESH_REQUIRE_DATA")) FAIL() << "python3-pydicom test files missing";
-    GTEST_SKIP() << "python3-pydicom test files missing";
-  }
+  MPUMESH_DATA_OR_SKIP(cut, test::pydicom_file("MR_truncated.dcm"), "python3-pydicom");
+  MPUMESH_DATA_OR_SKIP(whole, test::pydicom_file("MR_small.dcm"), "python3-pydicom");
+  MPUMESH_DATA_OR_SKIP(implicit, test::pydicom_file("MR_small_implicit.dcm"), "python3-pydicom");
+  MPUMESH_DATA_OR_SKIP(big, test::pydicom_file("MR_small_bigendian.dcm"), "python3-pydicom");
   try {
     read_volume(cut);
     FAIL() << "expected the truncated file to be refused";

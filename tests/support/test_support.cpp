@@ -105,7 +105,7 @@ TriangleMesh icosphere(double r, int subdivisions) {
   return m;
 }
 
-std::string sample_ct_or_skip() {
+std::string sample_ct_path() {
   const char* env = std::getenv("MPUMESH_SAMPLE_CT");
   const std::string path = env && *env ? env : "/usr/share/doc/invesalius-examples/examples/Cranium.inv3";
   if (std::filesystem::exists(path)) return path;
@@ -113,11 +113,8 @@ std::string sample_ct_or_skip() {
 }
 
 std::string pydicom_file(const std::string& name) {
-  for (const char* dir : {"/usr/lib/python3/dist-packages/pydicom/data/test_files/"}) {
-    const std::string p = std::string(dir) + name;
-    if (std::filesystem::exists(p)) return p;
-  }
-  return "";
+  const std::string p = "/usr/lib/python3/dist-packages/pydicom/data/test_files/" + name;
+  return std::filesystem::exists(p) ? p : "";
 }
 
 std::string temp_dir(const std::string& name) {

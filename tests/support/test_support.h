@@ -33,10 +33,11 @@ TriangleMesh icosahedron(double edge);      // regular, outward
 TriangleMesh unit_cube();                   // 12 triangles, [0,1]^3, outward
 TriangleMesh icosphere(double r, int subdivisions);
 
-// The InVesalius head CT (invesalius-examples), or "" with the test skipped; with
-// MPUMESH_REQUIRE_DATA=1 a missing file fails instead.
-std::string sample_ct_or_skip();
-std::string pydicom_file(const std::string& name);  // from python3-pydicom, or ""
+// Real data from Debian packages, or "" when the package is missing (see
+// MPUMESH_DATA_OR_SKIP): the InVesalius head CT (invesalius-examples, or the path in
+// MPUMESH_SAMPLE_CT) and pydicom's test files (python3-pydicom).
+std::string sample_ct_path();
+std::string pydicom_file(const std::string& name);
 
 // A fresh empty directory under the test temp dir.
 std::string temp_dir(const std::string& name);
@@ -51,10 +52,14 @@ std::string temp_dir(const std::string& name);
     GTEST_SKIP() << var##_why;                                                                 \
   }
 
-#define MPUMESH_SAMPLE_CT_OR_SKIP(var)                                                         \
-  const std::string var = ::mpumesh::test::sample_ct_or_skip();                                \
+// Declares `var` = path_expr; an empty path skips the test, or fails it when
+// MPUMESH_REQUIRE_DATA=1 (scripts/test.sh installs the packages).
+#define MPUMESH_DATA_OR_SKIP(var, path_expr, package)                                          \
+  const std::string var = (path_expr);                                                         \
   if (var.empty()) {                                                                           \
-    if (::mpumesh::test::env_flag("MPUMESH_REQUIRE_DATA"))                                     \
-      FAIL() << "sample CT missing: install invesalius-examples";                              \
-    GTEST_SKIP() << "sample CT missing: install invesalius-examples";                          \
+    if (::mpumesh::test::env_flag("MPUMESH_REQUIRE_DATA")) FAIL() << "missing: install " package; \
+    GTEST_SKIP() << "missing: install " package;                                               \
   }
+
+#define MPUMESH_SAMPLE_CT_OR_SKIP(var) \
+  MPUMESH_DATA_OR_SKIP(var, ::mpumesh::test::sample_ct_path(), "invesalius-examples")
