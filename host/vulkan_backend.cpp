@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "compute/cpu_backend.h"
+#include "kernels/chan_vese_vk.h"
 #include "kernels/mc_vk.h"
 #include "vk/vk_check.h"
 
@@ -16,6 +17,12 @@ mc::McMesh VulkanBackend::marching_cubes(const mc::McField& field) {
   if (!mc_) mc_ = std::make_unique<McKernel>(ctx_);
   kernel_ms_.clear();
   return mc_->run(field, kernel_ms_);
+}
+
+seg::ChanVeseResult VulkanBackend::chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) {
+  if (!cv_) cv_ = std::make_unique<ChanVeseKernel>(ctx_);
+  kernel_ms_.clear();
+  return cv_->run(stack, p, kernel_ms_);
 }
 
 BackendChoice make_backend(const std::string& name, int device_index) {

@@ -13,6 +13,7 @@
 namespace mpumesh::vk {
 
 class McKernel;
+class ChanVeseKernel;
 
 class VulkanBackend : public ComputeBackend {
  public:
@@ -21,11 +22,13 @@ class VulkanBackend : public ComputeBackend {
   std::string kind() const override { return "vulkan"; }
   std::string device() const override;
   mc::McMesh marching_cubes(const mc::McField& field) override;
+  seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) override;
   Context& context() { return ctx_; }
 
  private:
   Context ctx_;
   std::unique_ptr<McKernel> mc_;
+  std::unique_ptr<ChanVeseKernel> cv_;
 };
 
 struct BackendChoice {

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "cli_util.h"
 #include "commands.h"
 #include "common/error.h"
 #include "io/atomic_file.h"
@@ -22,32 +23,10 @@ namespace mpumesh::tools {
 namespace {
 
 struct MeshJob {
-  std::string input, output, threshold = "226", backend = "auto", report;
-  int device = -1;
+  std::string input, output, threshold = "226", report;
+  BackendOptions backend;
   bool self_intersections = true;
 };
-
-void add_backend_options(CLI::App* cmd, MeshJob& job) {
-  cmd->add_option("--backend", job.backend, "cpu, gpu (Vulkan) or auto (a hardware GPU if any, else cpu)")
-      ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
-      ->capture_default_str();
-  cmd->add_option("--device", job.device, "Vulkan device index (see `mpumesh devices`)");
-}
-
-void add_common(CLI::App* cmd, CommonOptions& common) {
-  cmd->add_flag("--quiet,-q", common.quiet, "print nothing but errors");
-  cmd->add_flag("--json", common.json, "print a JSON summary on stdout");
-}
-
-void write_json_file(const nlohmann::json& j, const std::string& path) {
-  AtomicFile out(path);
-  {
-    std::ofstream os(out.temp_path());
-    os << j.dump(2) << '\n';
-    if (!os) throw InputError(path + ": write failed");
-  }
-  out.commit();
-}
 
 // Reads, meshes and writes; returns the summary (and fills `mesh`).
 nlohmann::json run_mc(const MeshJob& job, const CommonOptions& common, Progress& progress, TriangleMesh& mesh) {
@@ -58,11 +37,7 @@ nlohmann::json run_mc(const MeshJob& job, const CommonOptions& common, Progress&
   progress.begin("read volume");
   Volume vol = read_volume(job.input);
   progress.end();
-  progress.begin("backend");
-  vk::BackendChoice choice = vk::make_backend(job.backend, job.device);
-  progress.end();
-  if (!choice.note.empty() && !common.quiet) std::fprintf(stderr, "mpumesh: %s\n", choice.note.c_str());
-  progress.note("device: " + choice.backend->device());
+  vk::BackendChoice choice = open_backend(job.backend, common, progress);
   progress.begin("marching cubes");
   mesh = marching_cubes(vol, range, *choice.backend);
   progress.end();
@@ -75,18 +50,12 @@ nlohmann::json run_mc(const MeshJob& job, const CommonOptions& common, Progress&
                 {"spacing_mm", {vol.spacing.x(), vol.spacing.y(), vol.spacing.z()}},
                 {"modality", vol.modality}};
   j["threshold"] = {{"lo", range.lo}, {"hi", std::isinf(range.hi) ? nlohmann::json() : nlohmann::json(range.hi)}};
-  j["backend"] = {{"kind", choice.backend->kind()}, {"device", choice.backend->device()}, {"note", choice.note}};
+  j["backend"] = backend_json(choice);
   j["kernel_ms"] = choice.backend->kernel_ms();
   j["output"] = job.output;
   j["vertices"] = mesh.vertices.size();
   j["triangles"] = mesh.triangles.size();
   return j;
-}
-
-nlohmann::json stage_json(const Progress& p) {
-  nlohmann::json s = nlohmann::json::object();
-  for (const auto& [name, sec] : p.stage_seconds()) s[name] = sec;
-  return s;
 }
 
 }  // namespace
@@ -97,7 +66,7 @@ void add_mc_command(CLI::App& app, CommonOptions& common, std::function<void()>&
   cmd->add_option("input", job->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
   cmd->add_option("-o,--output", job->output, "mesh: .ply, .stl, .obj or .off")->required();
   cmd->add_option("--threshold", job->threshold, "inside range LO or LO:HI (HU for CT)")->capture_default_str();
-  add_backend_options(cmd, *job);
+  add_backend_options(cmd, job->backend);
   add_common(cmd, common);
   cmd->callback([&common, &action, job] {
     action = [&common, job] {
@@ -162,7 +131,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
   cmd->add_option("--threshold", job->threshold, "inside range LO or LO:HI (HU for CT)")->capture_default_str();
   cmd->add_option("--report", job->report, "write the JSON report here");
   cmd->add_flag("!--no-self-intersections", job->self_intersections, "skip the self-intersection test");
-  add_backend_options(cmd, *job);
+  add_backend_options(cmd, job->backend);
   add_common(cmd, common);
   cmd->callback([&common, &action, job] {
     action = [&common, job] {

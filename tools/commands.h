@@ -18,6 +18,8 @@ void add_devices_command(CLI::App& app, CommonOptions& common, std::function<voi
 void add_mc_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_quality_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_convert_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_segment_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_points_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 
 }  // namespace mpumesh::tools

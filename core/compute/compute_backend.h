@@ -7,6 +7,7 @@
 #include <string>
 
 #include "mc/marching_cubes_ref.h"
+#include "segment/chan_vese_ref.h"
 
 namespace mpumesh {
 
@@ -20,6 +21,9 @@ class ComputeBackend {
 
   // Marching cubes on a padded field; see core/mc/marching_cubes_ref.h for the output.
   virtual mc::McMesh marching_cubes(const mc::McField& field) = 0;
+
+  // Chan-Vese on every slice; see core/segment/chan_vese_ref.h.
+  virtual seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) = 0;
 
   // Time per kernel (ms) of the last call, measured on the device; may be empty.
   const std::map<std::string, double>& kernel_ms() const { return kernel_ms_; }

@@ -10,12 +10,26 @@ std::string CpuBackend::device() const {
   return "CPU (" + std::to_string(tbb::info::default_concurrency()) + " threads)";
 }
 
+namespace {
+double ms_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+}  // namespace
+
 mc::McMesh CpuBackend::marching_cubes(const mc::McField& field) {
   auto t0 = std::chrono::steady_clock::now();
   mc::McMesh m = mc::marching_cubes_ref(field);
   kernel_ms_.clear();
-  kernel_ms_["marching_cubes"] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  kernel_ms_["marching_cubes"] = ms_since(t0);
   return m;
+}
+
+seg::ChanVeseResult CpuBackend::chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) {
+  auto t0 = std::chrono::steady_clock::now();
+  seg::ChanVeseResult r = seg::chan_vese_ref(stack, p);
+  kernel_ms_.clear();
+  kernel_ms_["chan_vese"] = ms_since(t0);
+  return r;
 }
 
 }  // namespace mpumesh

@@ -12,6 +12,7 @@ class CpuBackend : public ComputeBackend {
   std::string kind() const override { return "cpu"; }
   std::string device() const override;
   mc::McMesh marching_cubes(const mc::McField& field) override;
+  seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) override;
 };
 
 }  // namespace mpumesh

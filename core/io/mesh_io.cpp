@@ -87,7 +87,10 @@ class PlyBinaryCursor {
   const std::string& name_;
 };
 
-TriangleMesh parse_ply(const std::string& b, const std::string& name) {
+}  // namespace
+
+namespace detail {
+TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vector<Eigen::Vector3d>* normals) {
   if (b.compare(0, 4, "ply\n") != 0 && b.compare(0, 5, "ply\r\n") != 0)
     throw InputError(name + ": not a PLY file (no 'ply' magic)");
   size_t end = b.find("end_header");
@@ -138,17 +141,22 @@ TriangleMesh parse_ply(const std::string& b, const std::string& name) {
   };
   for (const auto& e : elems) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-    int xi = -1, yi = -1, zi = -1;
+    int xi = -1, yi = -1, zi = -1, nxi = -1, nyi = -1, nzi = -1;
     for (size_t i = 0; i < e.props.size(); ++i) {
       if (e.props[i].name == "x") xi = int(i);
       if (e.props[i].name == "y") yi = int(i);
       if (e.props[i].name == "z") zi = int(i);
+      if (e.props[i].name == "nx") nxi = int(i);
+      if (e.props[i].name == "ny") nyi = int(i);
+      if (e.props[i].name == "nz") nzi = int(i);
     }
     if (is_vertex && (xi < 0 || yi < 0 || zi < 0)) throw InputError(name + ": PLY vertices lack x, y or z");
+    if (is_vertex && normals && (nxi < 0 || nyi < 0 || nzi < 0))
+      throw InputError(name + ": PLY vertices lack the normal nx, ny, nz");
     if (is_vertex) m.vertices.reserve(size_t(e.count));
     std::vector<int64_t> idx;
     for (int64_t r = 0; r < e.count; ++r) {
-      Eigen::Vector3d v = Eigen::Vector3d::Zero();
+      Eigen::Vector3d v = Eigen::Vector3d::Zero(), nv = Eigen::Vector3d::Zero();
       for (size_t i = 0; i < e.props.size(); ++i) {
         const PlyProp& p = e.props[i];
         if (!p.list_count_type.empty()) {
@@ -166,13 +174,22 @@ TriangleMesh parse_ply(const std::string& b, const std::string& name) {
           if (int(i) == xi) v.x() = x;
           if (int(i) == yi) v.y() = x;
           if (int(i) == zi) v.z() = x;
+          if (int(i) == nxi) nv.x() = x;
+          if (int(i) == nyi) nv.y() = x;
+          if (int(i) == nzi) nv.z() = x;
         }
       }
-      if (is_vertex) m.vertices.push_back(v);
+      if (is_vertex) {
+        m.vertices.push_back(v);
+        if (normals) normals->push_back(nv);
+      }
     }
   }
   return m;
 }
+}  // namespace detail
+
+namespace {
 
 void write_ply(const TriangleMesh& m, std::ostream& os) {
   static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
@@ -370,7 +387,7 @@ TriangleMesh parse_mesh(const std::string& bytes, MeshFormat format, const std::
   if (bytes.empty()) throw InputError(name + ": file is empty");
   TriangleMesh m;
   switch (format) {
-    case MeshFormat::kPly: m = parse_ply(bytes, name); break;
+    case MeshFormat::kPly: m = detail::parse_ply(bytes, name, nullptr); break;
     case MeshFormat::kStl: m = parse_stl(bytes, name); break;
     case MeshFormat::kObj: m = parse_obj(bytes, name); break;
     case MeshFormat::kOff: m = parse_off(bytes, name); break;

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <string>
 
+#include <tbb/parallel_for.h>
+
 #include "common/error.h"
 
 namespace mpumesh::mc {
@@ -22,7 +24,7 @@ McField make_threshold_field(const Volume& vol, ThresholdRange range) {
     float f = std::min(v - lo, hi - v);
     return std::isnan(f) ? -1.0f : f;
   };
-  for (int64_t k = 0; k < pz; ++k) {
+  tbb::parallel_for(int64_t(0), pz, [&](int64_t k) {
     const int64_t sk = std::clamp<int64_t>(k - 1, 0, nz - 1);
     const bool pad_k = k == 0 || k == pz - 1;
     for (int64_t j = 0; j < py; ++j) {
@@ -37,7 +39,7 @@ McField make_threshold_field(const Volume& vol, ThresholdRange range) {
         row[i] = pad ? -std::max(std::abs(f), 0.5f) : f;
       }
     }
-  }
+  });
   return field;
 }
 

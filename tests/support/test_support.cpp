@@ -49,6 +49,69 @@ Volume sphere_volume(std::array<int64_t, 3> dims, Eigen::Vector3d spacing, Eigen
   return v;
 }
 
+Volume ShellPhantom::volume() const {
+  Volume v;
+  v.spacing = spacing;
+  const Eigen::Vector3d lo = centre - radii - Eigen::Vector3d::Constant(margin_mm);
+  const Eigen::Vector3d hi = centre + radii + Eigen::Vector3d::Constant(margin_mm);
+  for (int d = 0; d < 3; ++d) v.dims[size_t(d)] = int64_t(std::ceil((hi[d] - lo[d]) / spacing[d])) + 1;
+  // Offset by a fraction of a pixel so that the centre is not on a pixel centre.
+  v.origin = lo + Eigen::Vector3d(0.37 * spacing.x(), 0.21 * spacing.y(), 0.43 * spacing.z());
+  v.voxels.resize(size_t(v.voxel_count()));
+  const Eigen::Vector3d inner = radii - Eigen::Vector3d::Constant(shell_mm);
+  auto level = [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = p - centre;
+    if (q.cwiseQuotient(radii).squaredNorm() > 1) return 0.0;
+    return q.cwiseQuotient(inner).squaredNorm() > 1 ? shell_hu : interior_hu;
+  };
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  constexpr int kSub = 4;
+  for (int64_t k = 0; k < v.dims[2]; ++k)
+    for (int64_t j = 0; j < v.dims[1]; ++j)
+      for (int64_t i = 0; i < v.dims[0]; ++i) {
+        double sum = 0;
+        for (int b = 0; b < kSub; ++b)
+          for (int a = 0; a < kSub; ++a) {
+            const Eigen::Vector3d ijk(double(i) + (a + 0.5) / kSub - 0.5, double(j) + (b + 0.5) / kSub - 0.5, double(k));
+            sum += level(v.index_to_physical(ijk));
+          }
+        v.voxels[size_t(v.index(i, j, k))] = float(sum / (kSub * kSub) + noise_hu * noise(rng));
+      }
+  v.source = "shell phantom";
+  v.modality = "CT";
+  return v;
+}
+
+bool ShellPhantom::inside(const Eigen::Vector3d& p) const {
+  return (p - centre).cwiseQuotient(radii).squaredNorm() <= 1.0;
+}
+
+double ShellPhantom::distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal) const {
+  // Closest point x = e² y / (e² + t) where F(t) = Σ (e y / (e² + t))² - 1 = 0; F falls
+  // monotonically for t > -min(e²), so bisection finds t.
+  const Eigen::Vector3d y = p - centre, e2 = radii.cwiseProduct(radii);
+  auto F = [&](double t) {
+    double s = 0;
+    for (int d = 0; d < 3; ++d) {
+      const double r = radii[d] * y[d] / (e2[d] + t);
+      s += r * r;
+    }
+    return s - 1.0;
+  };
+  double a = -e2.minCoeff() * (1 - 1e-12), b = 1.0;
+  while (F(b) > 0) b *= 2;
+  for (int it = 0; it < 200; ++it) {
+    const double m = 0.5 * (a + b);
+    (F(m) > 0 ? a : b) = m;
+  }
+  const double t = 0.5 * (a + b);
+  Eigen::Vector3d x;
+  for (int d = 0; d < 3; ++d) x[d] = e2[d] * y[d] / (e2[d] + t);
+  if (normal) *normal = x.cwiseQuotient(e2).normalized();
+  return (y - x).norm();
+}
+
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed) {
   Volume v;
   v.dims = dims;

@@ -26,6 +26,27 @@ void expect_no_validation_messages(vk::VulkanBackend& b);
 // surface, -1000 outside, linear across one voxel, so the 0 isosurface is the sphere.
 Volume sphere_volume(std::array<int64_t, 3> dims, Eigen::Vector3d spacing, Eigen::Vector3d centre, double r);
 
+// An ellipsoid "bone" phantom with known surface: a bright shell (shell_hu, shell_mm thick
+// inside the outer surface) around a dimmer interior (interior_hu) on background 0 HU,
+// thin slices (voxels sampled at the slice plane), in-plane partial volume (each pixel
+// the mean of 4 x 4 sub-samples), plus Gaussian noise. The outer surface is the truth.
+struct ShellPhantom {
+  Eigen::Vector3d centre{0, 0, 0};
+  Eigen::Vector3d radii{20, 20, 20};  // outer semi-axes, mm
+  double shell_mm = 2.0;
+  double shell_hu = 1000, interior_hu = 700;
+  double noise_hu = 0;
+  uint32_t seed = 1;
+  Eigen::Vector3d spacing{0.5, 0.5, 2.0};
+  double margin_mm = 4;  // space around the ellipsoid
+  Volume volume() const;
+  // Distance (mm) from p to the outer surface and the outward unit normal at the closest
+  // surface point.
+  double distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal = nullptr) const;
+  // 1 inside the outer surface, 0 outside (no partial volume).
+  bool inside(const Eigen::Vector3d& p) const;
+};
+
 // Random binary volume (values +-100), fixed seed.
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed);
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/mesh_io.h"
+#include "io/point_io.h"
 #include "io/read_file.h"
 #include "io/volume_io.h"
 #include "test_support.h"
@@ -41,7 +42,7 @@ std::string phantom(const std::string& dir) {
 }
 
 TEST(Cli, HelpForEverySubcommand) {
-  for (const char* sub : {"", "run", "mc", "quality", "convert", "devices"}) {
+  for (const char* sub : {"", "run", "segment", "points", "mc", "quality", "convert", "devices"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
@@ -106,6 +107,74 @@ TEST(Cli, ErrorsNameTheFileAndLeaveNothing) {
   const std::string before = read_file(dir + "/good.ply");
   EXPECT_EQ(run("mc " + ball + " --threshold 9000 -o " + dir + "/good.ply --quiet").code, 1);
   EXPECT_EQ(read_file(dir + "/good.ply"), before);
+}
+
+TEST(Cli, SegmentWritesAMaskWithTheInputGeometry) {
+  const std::string dir = test::temp_dir("segment");
+  test::ShellPhantom ph;
+  ph.radii = {8, 7, 6};
+  ph.noise_hu = 60;
+  write_volume(ph.volume(), dir + "/shell.nrrd");
+  for (const char* method : {"threshold", "chan-vese"}) {
+    const std::string out = dir + "/" + method + ".nii.gz";
+    const Result r = run("segment " + dir + "/shell.nrrd -o " + out + " --method " + method + " --backend cpu --json");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["method"], method);
+    EXPECT_GT(j["components_threshold"].get<int>(), 1) << "the noise should leave specks at 226 HU";
+    if (std::string(method) == "chan-vese") EXPECT_EQ(j["components"], 1);
+    const Volume in = read_volume(dir + "/shell.nrrd"), mask = read_volume(out);
+    EXPECT_EQ(mask.dims, in.dims);
+    EXPECT_LT((mask.spacing - in.spacing).norm(), 1e-6);
+    EXPECT_LT((mask.origin - in.origin).norm(), 1e-4);
+    int64_t inside = 0;
+    for (float v : mask.voxels) {
+      ASSERT_TRUE(v == 0.0f || v == 1.0f);
+      inside += v == 1.0f;
+    }
+    EXPECT_EQ(inside, j["inside_voxels"].get<int64_t>());
+  }
+  // --threshold alone means the threshold method.
+  const Result r = run("segment " + dir + "/shell.nrrd -o " + dir + "/t.mha --threshold 500 --backend cpu --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_EQ(nlohmann::json::parse(r.out)["method"], "threshold");
+}
+
+TEST(Cli, PointsWritesOrientedPointsAndASummary) {
+  const std::string dir = test::temp_dir("points");
+  test::ShellPhantom ph;
+  ph.radii = {8, 7, 6};
+  write_volume(ph.volume(), dir + "/shell.nii.gz");
+  const Result r = run("points " + dir + "/shell.nii.gz -o " + dir + "/p.ply --threshold 500 --backend cpu --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  const auto cloud = read_point_cloud(dir + "/p.ply");
+  EXPECT_EQ(cloud.size(), j["points"]["points"].get<size_t>());
+  EXPECT_GT(j["points"]["cap_points"].get<int>(), 0);
+  EXPECT_TRUE(j["stage_seconds"].contains("points"));
+  EXPECT_TRUE(j["backend"].contains("device"));
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    Eigen::Vector3d n;
+    EXPECT_LT(ph.distance(cloud.positions[i], &n), 1.2);  // within a cap's half slice and a pixel
+    EXPECT_GT(cloud.normals[i].dot(n), 0.5) << i;
+  }
+}
+
+TEST(Cli, SegmentationErrorsNameTheProblem) {
+  const std::string dir = test::temp_dir("segment_errors");
+  const std::string ball = phantom(dir);
+  auto expect_fail = [&](const std::string& args, const std::string& words) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(words), std::string::npos) << "want '" << words << "' in: " << r.out;
+    for (auto& e : std::filesystem::directory_iterator(dir))
+      EXPECT_EQ(e.path().filename().string(), "ball.mha") << "left behind: " << e.path();
+  };
+  expect_fail("segment " + ball + " -o " + dir + "/m.nii --window 5:1", "--window");
+  expect_fail("segment " + ball + " -o " + dir + "/m.nii --dt 0", "--dt");
+  expect_fail("segment " + ball + " -o " + dir + "/m.nii --threshold 5000", "no voxel");
+  expect_fail("segment " + ball + " -o " + dir + "/m.vtk", "m.vtk");
+  expect_fail("points " + ball + " -o " + dir + "/p.obj", "p.obj");
 }
 
 TEST(Cli, GpuBackendAndDevices) {

@@ -1,0 +1,223 @@
+#include "points/slice_points.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "common/neighbour_grid.h"
+#include "points/contours.h"
+#include "segment/distance_transform.h"
+
+namespace mpumesh::pts {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Points in the volume's scaled index frame (index * spacing): physical = origin + D * p.
+struct Part {
+  std::vector<Eigen::Vector3d> pos, ref;
+  std::vector<uint8_t> cap;
+  std::vector<int32_t> slice;
+  int64_t contours = 0;
+  void add(const Eigen::Vector3d& p, const Eigen::Vector3d& r, bool is_cap, int32_t k) {
+    pos.push_back(p);
+    ref.push_back(r);
+    cap.push_back(is_cap);
+    slice.push_back(k);
+  }
+};
+
+}  // namespace
+
+SlicePoints extract_points(const seg::Segmentation& s, const Volume& geometry, const PointOptions& opt) {
+  const int64_t px = s.field.dims[0], py = s.field.dims[1], pz = s.field.dims[2], n = px * py;
+  const int64_t nz = pz - 2;
+  const double sx = geometry.spacing.x(), sy = geometry.spacing.y(), sz = geometry.spacing.z();
+  const float* field = s.field.values.data();
+  auto inside = [&](int64_t pk, int64_t i, int64_t j) { return field[i + px * (j + py * pk)] >= 0.0f ? 1.0 : 0.0; };
+  // The inside indicator of padded slice pk, bilinear at padded pixel coordinates (x, y).
+  auto indicator = [&](int64_t pk, double x, double y) {
+    const int64_t i = std::clamp<int64_t>(int64_t(std::floor(x)), 0, px - 2);
+    const int64_t j = std::clamp<int64_t>(int64_t(std::floor(y)), 0, py - 2);
+    const double fx = std::clamp(x - double(i), 0.0, 1.0), fy = std::clamp(y - double(j), 0.0, 1.0);
+    return (1 - fy) * ((1 - fx) * inside(pk, i, j) + fx * inside(pk, i + 1, j)) +
+           fy * ((1 - fx) * inside(pk, i, j + 1) + fx * inside(pk, i + 1, j + 1));
+  };
+  auto scaled = [&](double x, double y, double k) { return Eigen::Vector3d((x - 1) * sx, (y - 1) * sy, k * sz); };
+
+  SlicePoints out;
+  // Contour points, slice by slice.
+  auto t0 = Clock::now();
+  std::vector<Part> parts(static_cast<size_t>(nz));
+  tbb::parallel_for(int64_t(0), nz, [&](int64_t k) {
+    Part& part = parts[size_t(k)];
+    const int64_t pk = k + 1;
+    for (const Contour& c : marching_squares(field + n * pk, px, py)) {
+      ++part.contours;
+      const size_t m = c.points.size();
+      for (size_t v = 0; v < m; ++v) {
+        const auto& p = c.points[v];
+        const auto& prev = c.points[(v + m - 1) % m];
+        const auto& next = c.points[(v + 1) % m];
+        const Eigen::Vector2d t((next.x() - prev.x()) * sx, (next.y() - prev.y()) * sy);
+        Eigen::Vector2d outward(t.y(), -t.x());  // the inside is on the left
+        if (outward.norm() > 0) outward.normalize();
+        const double up = indicator(pk - 1, p.x(), p.y()) - indicator(pk + 1, p.x(), p.y());
+        part.add(scaled(p.x(), p.y(), double(k)), Eigen::Vector3d(outward.x(), outward.y(), up), false, int32_t(k));
+      }
+    }
+  });
+  out.stats.contour_seconds = seconds_since(t0);
+
+  // Cap points between padded slices pk and pk + 1 (k = pk - 1).
+  t0 = Clock::now();
+  std::vector<Part> caps(size_t(nz + 1));
+  if (opt.caps) {
+    const double min_sq = sz * sz, half_pixel = 0.5 * std::min(sx, sy);
+    // Pixel offsets closer than a slice spacing.
+    std::vector<std::pair<int64_t, int64_t>> disk;
+    const int64_t rx = int64_t(std::ceil(sz / sx)), ry = int64_t(std::ceil(sz / sy));
+    for (int64_t dj = -ry; dj <= ry; ++dj)
+      for (int64_t di = -rx; di <= rx; ++di)
+        if (std::pow(double(di) * sx, 2) + std::pow(double(dj) * sy, 2) < min_sq) disk.emplace_back(di, dj);
+    // One slice's mask and, computed when first needed, the squared distances to its
+    // region and to its outside. Consecutive pairs share a slice, so each range of pairs
+    // walks up the stack and computes every transform once.
+    struct SliceMaps {
+      int64_t pk = -1;
+      std::vector<uint8_t> mask;
+      std::vector<float> to_region, to_outside;
+      bool has_region = false, has_outside = false;
+    };
+    auto load = [&](SliceMaps& m, int64_t pk) {
+      m.pk = pk;
+      m.mask.resize(size_t(n));
+      for (int64_t p = 0; p < n; ++p) m.mask[size_t(p)] = field[p + n * pk] >= 0.0f;
+      m.has_region = m.has_outside = false;
+    };
+    auto region_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
+      if (!m.has_region) seg::squared_distance_2d(m.mask.data(), px, py, 1, sx, sy, m.to_region);
+      m.has_region = true;
+      return m.to_region;
+    };
+    auto outside_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
+      if (!m.has_outside) seg::squared_distance_2d(m.mask.data(), px, py, 0, sx, sy, m.to_outside);
+      m.has_outside = true;
+      return m.to_outside;
+    };
+    // Inside `from`, outside `to`, and at least a slice spacing from `to`'s region. The
+    // height rises from `from`'s contour toward `to`'s: in proportion to the distances to
+    // the two contours where `to` has a region, else at 45 degrees up to the mid-plane (a
+    // dome top between slices).
+    auto add_caps = [&](SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) {
+      bool any = false;  // candidates first, by a disk test on the few changed pixels
+      for (int64_t j = 0; j < py && !any; ++j)
+        for (int64_t i = 0; i < px && !any; ++i) {
+          const int64_t p = i + px * j;
+          if (!from.mask[size_t(p)] || to.mask[size_t(p)]) continue;
+          bool near = false;
+          for (const auto& [di, dj] : disk) {
+            const int64_t a = i + di, b = j + dj;
+            if (a >= 0 && b >= 0 && a < px && b < py && to.mask[size_t(a + px * b)]) {
+              near = true;
+              break;
+            }
+          }
+          any = !near;
+        }
+      if (!any) return;
+      const auto& d_region = region_d2(to);
+      const auto& d_edge = outside_d2(from);
+      const double z_from = double(from.pk - 1);
+      for (int64_t j = 0; j < py; ++j)
+        for (int64_t i = 0; i < px; ++i) {
+          const int64_t p = i + px * j;
+          if (!from.mask[size_t(p)] || d_region[size_t(p)] < min_sq) continue;
+          const double d_from = std::max(std::sqrt(double(d_edge[size_t(p)])) - half_pixel, 0.0);
+          const double d_to = std::sqrt(double(d_region[size_t(p)])) - half_pixel;
+          const double rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / sz) : d_from / (d_from + d_to);
+          part.add(scaled(double(i), double(j), z_from + dir * rise), Eigen::Vector3d(0, 0, dir), true, k);
+        }
+    };
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz + 1, 8), [&](const tbb::blocked_range<int64_t>& r) {
+      SliceMaps lo, hi;
+      load(lo, r.begin());
+      for (int64_t pk = r.begin(); pk != r.end(); ++pk) {
+        load(hi, pk + 1);
+        add_caps(lo, hi, 1.0, caps[size_t(pk)], int32_t(pk - 1));   // the region ends going up: faces +z
+        add_caps(hi, lo, -1.0, caps[size_t(pk)], int32_t(pk - 1));  // the region starts going up: faces -z
+        std::swap(lo, hi);
+      }
+    });
+  }
+  std::vector<Eigen::Vector3d> pos, ref;
+  for (const std::vector<Part>* list : {&parts, &caps})
+    for (const Part& p : *list) {
+      pos.insert(pos.end(), p.pos.begin(), p.pos.end());
+      ref.insert(ref.end(), p.ref.begin(), p.ref.end());
+      out.is_cap.insert(out.is_cap.end(), p.cap.begin(), p.cap.end());
+      out.slice.insert(out.slice.end(), p.slice.begin(), p.slice.end());
+      out.stats.contours += p.contours;
+      (p.cap.empty() || !p.cap[0] ? out.stats.contour_points : out.stats.cap_points) += int64_t(p.pos.size());
+    }
+  out.stats.cap_seconds = seconds_since(t0);
+
+  // PCA normals, oriented by the reference.
+  t0 = Clock::now();
+  const double radius = std::max(opt.radius_slices * sz, opt.radius_pixels * std::max(sx, sy));
+  out.stats.pca_radius_mm = radius;
+  std::vector<Eigen::Vector3d> normals(pos.size());
+  std::vector<uint8_t> degenerate(pos.size(), 0);
+  if (!pos.empty()) {
+    const NeighbourGrid grid(pos, radius);
+    const auto& order = grid.order();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, pos.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+      std::vector<uint32_t> found;
+      for (size_t o = r.begin(); o != r.end(); ++o) {
+        const size_t i = order[o];
+        found.clear();
+        // Neighbours whose orientation reference agrees: not the far face of a thin wall.
+        grid.for_each_within(pos[i], [&](uint32_t j) {
+          if (ref[j].dot(ref[i]) > 0) found.push_back(j);
+        });
+        Eigen::Vector3d normal = ref[i].normalized();
+        bool degen = true;
+        if (int(found.size()) >= opt.min_neighbours) {
+          Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+          for (uint32_t j : found) mean += pos[j];
+          mean /= double(found.size());
+          Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+          for (uint32_t j : found) {
+            const Eigen::Vector3d d = pos[j] - mean;
+            cov += d * d.transpose();
+          }
+          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+          es.computeDirect(cov);
+          const Eigen::Vector3d ev = es.eigenvalues();  // ascending
+          if (ev[1] >= opt.collinear_ratio * ev[2]) {
+            normal = es.eigenvectors().col(0).normalized();
+            if (normal.dot(ref[i]) < 0) normal = -normal;
+            degen = false;
+          }
+        }
+        normals[i] = normal;
+        degenerate[i] = degen;
+      }
+    });
+  }
+  out.stats.degenerate_normals = std::count(degenerate.begin(), degenerate.end(), uint8_t(1));
+  out.stats.normal_seconds = seconds_since(t0);
+
+  out.cloud.positions.resize(pos.size());
+  out.cloud.normals.resize(pos.size());
+  for (size_t i = 0; i < pos.size(); ++i) {
+    out.cloud.positions[i] = geometry.origin + geometry.direction * pos[i];
+    out.cloud.normals[i] = (geometry.direction * normals[i]).normalized();
+  }
+  return out;
+}
+
+}  // namespace mpumesh::pts

@@ -1,0 +1,187 @@
+// Contours and oriented points: marching squares on small fields with known answers, and
+// the whole point stage on noisy shell phantoms (true surface and normals known), and
+// point-cloud files.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "common/error.h"
+#include "compute/cpu_backend.h"
+#include "io/point_io.h"
+#include "points/contours.h"
+#include "points/slice_points.h"
+#include "test_support.h"
+
+namespace mpumesh {
+namespace {
+
+// A padded field from a predicate on pixel centres: +1 inside, -1 outside, -1 border ring.
+std::vector<float> field_from(int64_t nx, int64_t ny, auto inside) {
+  std::vector<float> f(size_t(nx * ny), -1.0f);
+  for (int64_t j = 1; j + 1 < ny; ++j)
+    for (int64_t i = 1; i + 1 < nx; ++i) f[size_t(i + nx * j)] = inside(double(i), double(j)) ? 1.0f : -1.0f;
+  return f;
+}
+
+TEST(MarchingSquares, DiskIsOneCounterClockwiseContour) {
+  const int64_t n = 40;
+  // A smooth field: r - |p - c|, so the contour is the circle itself.
+  std::vector<float> f(size_t(n * n));
+  for (int64_t j = 0; j < n; ++j)
+    for (int64_t i = 0; i < n; ++i) f[size_t(i + n * j)] = float(12.0 - std::hypot(i - 19.3, j - 20.1));
+  const auto cs = pts::marching_squares(f.data(), n, n);
+  ASSERT_EQ(cs.size(), 1u);
+  EXPECT_NEAR(cs[0].signed_area(), M_PI * 144.0, 0.01 * M_PI * 144.0);
+  for (const auto& p : cs[0].points) EXPECT_NEAR(std::hypot(p.x() - 19.3, p.y() - 20.1), 12.0, 0.05);
+}
+
+TEST(MarchingSquares, HolesRunClockwiseAndSaddlesSeparateInsideCorners) {
+  const int64_t n = 30;
+  auto ring = field_from(n, n, [](double x, double y) {
+    const double r = std::hypot(x - 15, y - 15);
+    return r < 10 && r > 5;
+  });
+  auto cs = pts::marching_squares(ring.data(), n, n);
+  ASSERT_EQ(cs.size(), 2u);
+  std::sort(cs.begin(), cs.end(), [](const auto& a, const auto& b) { return a.signed_area() > b.signed_area(); });
+  EXPECT_GT(cs[0].signed_area(), 0);  // outer boundary
+  EXPECT_LT(cs[1].signed_area(), 0);  // hole
+  // A checkerboard 2 x 2: the diagonal inside pixels are separate regions.
+  auto checker = field_from(4, 4, [](double x, double y) { return (int(x) + int(y)) % 2 == 0; });
+  cs = pts::marching_squares(checker.data(), 4, 4);
+  ASSERT_EQ(cs.size(), 2u);
+  for (const auto& c : cs) {
+    EXPECT_EQ(c.points.size(), 4u);
+    EXPECT_GT(c.signed_area(), 0);
+  }
+}
+
+struct Errors {
+  double p95_position_px = 0, p95_normal_deg = 0, worst_cap_mm = 0;
+  int64_t flipped = 0, caps_up = 0, caps_down = 0, contour_points = 0;
+};
+
+Errors measure(const test::ShellPhantom& ph, const pts::SlicePoints& p, double pixel) {
+  Errors e;
+  std::vector<double> pos, ang;
+  for (size_t i = 0; i < p.cloud.size(); ++i) {
+    Eigen::Vector3d n;
+    const double d = ph.distance(p.cloud.positions[i], &n);
+    const double cosang = std::clamp(p.cloud.normals[i].dot(n), -1.0, 1.0);
+    if (cosang < 0) ++e.flipped;
+    ang.push_back(std::acos(cosang) * 180 / M_PI);
+    if (p.is_cap[i]) {
+      e.worst_cap_mm = std::max(e.worst_cap_mm, d);
+      (p.cloud.normals[i].z() > 0 ? e.caps_up : e.caps_down) += (p.cloud.positions[i] - ph.centre).z() * p.cloud.normals[i].z() > 0;
+    } else {
+      pos.push_back(d / pixel);
+    }
+  }
+  e.contour_points = int64_t(pos.size());
+  auto p95 = [](std::vector<double>& v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v[size_t(0.95 * double(v.size() - 1))];
+  };
+  e.p95_position_px = p95(pos);
+  e.p95_normal_deg = p95(ang);
+  return e;
+}
+
+struct PhantomCase {
+  const char* name;
+  Eigen::Vector3d radii;
+};
+class PointsPhantom : public ::testing::TestWithParam<PhantomCase> {};
+
+TEST_P(PointsPhantom, PositionsNormalsAndCaps) {
+  test::ShellPhantom ph;
+  ph.radii = GetParam().radii;
+  CpuBackend cpu;
+  // The threshold on the clean phantom; Chan-Vese on the noisy one (a plain threshold
+  // leaves noise holes in the interior, whose contours face inward).
+  for (auto method : {seg::Method::kThreshold, seg::Method::kChanVese}) {
+    ph.noise_hu = method == seg::Method::kThreshold ? 0 : 60;
+    const Volume vol = ph.volume();
+    seg::SegmentOptions opt;
+    opt.method = method;
+    opt.threshold = {500};
+    const seg::Segmentation s = seg::segment(vol, opt, cpu);
+    const pts::SlicePoints p = pts::extract_points(s, vol);
+    const Errors e = measure(ph, p, vol.spacing.x());
+    std::printf(
+        "[ %s ] %zu points (%lld contour, %lld cap), p95 position %.3f px, p95 normal %.2f deg, %lld flipped, caps "
+        "up/down %lld/%lld, worst cap %.3f mm, %lld degenerate\n",
+        seg::method_name(method), p.cloud.size(), (long long)p.stats.contour_points, (long long)p.stats.cap_points,
+        e.p95_position_px, e.p95_normal_deg, (long long)e.flipped, (long long)e.caps_up, (long long)e.caps_down,
+        e.worst_cap_mm, (long long)p.stats.degenerate_normals);
+    EXPECT_LE(e.p95_position_px, 0.25) << seg::method_name(method);
+    EXPECT_LE(e.p95_normal_deg, 10.0) << seg::method_name(method);
+    EXPECT_EQ(e.flipped, 0) << seg::method_name(method);
+    // Caps at both poles, facing away from the centre, no farther than half a slice
+    // spacing (plus a pixel) from the surface.
+    EXPECT_GT(e.caps_up, 10);
+    EXPECT_GT(e.caps_down, 10);
+    EXPECT_LE(e.worst_cap_mm, 0.5 * vol.spacing.z() + vol.spacing.x());
+    EXPECT_EQ(p.stats.cap_points, e.caps_up + e.caps_down) << "a cap faces the centre";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Shapes, PointsPhantom,
+                         ::testing::Values(PhantomCase{"sphere", {20, 20, 20}}, PhantomCase{"ellipsoid", {24, 16, 12}}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Points, StructureCutByTheScanIsCapped) {
+  // A cylinder along z through the whole scan: caps between the first (last) slice and the
+  // padding, at most half a slice outside, facing out.
+  Volume v;
+  v.dims = {30, 30, 6};
+  v.spacing = {1, 1, 2};
+  v.voxels.resize(size_t(v.voxel_count()));
+  for (int64_t k = 0; k < 6; ++k)
+    for (int64_t j = 0; j < 30; ++j)
+      for (int64_t i = 0; i < 30; ++i) v.voxels[size_t(v.index(i, j, k))] = std::hypot(i - 14.5, j - 14.5) < 9 ? 1000.0f : 0.0f;
+  CpuBackend cpu;
+  seg::SegmentOptions opt;
+  opt.method = seg::Method::kThreshold;
+  opt.threshold = {500};
+  const auto p = pts::extract_points(seg::segment(v, opt, cpu), v);
+  int64_t bottom = 0, top = 0;
+  for (size_t i = 0; i < p.cloud.size(); ++i) {
+    if (!p.is_cap[i]) continue;
+    const double z = p.cloud.positions[i].z();
+    if (z >= -1.0 && z < 0.0 && p.cloud.normals[i].z() < -0.7) ++bottom;
+    if (z > 10.0 && z <= 11.0 && p.cloud.normals[i].z() > 0.7) ++top;
+  }
+  EXPECT_EQ(bottom, p.stats.cap_points / 2);
+  EXPECT_EQ(top, p.stats.cap_points / 2);
+  EXPECT_GT(top, 200);  // the disk holds about 250 pixels
+}
+
+TEST(PointIo, RoundTripsAndRefusesBadFiles) {
+  PointCloud c;
+  c.positions = {{1, 2, 3}, {-4.5, 0.25, 1e3}};
+  c.normals = {{0, 0, 1}, {0.6, 0.8, 0}};
+  const std::string dir = test::temp_dir("point_io");
+  for (const char* ext : {".ply", ".xyz"}) {
+    const std::string path = dir + "/p" + ext;
+    write_point_cloud(c, path);
+    const PointCloud r = read_point_cloud(path);
+    ASSERT_EQ(r.size(), 2u) << ext;
+    for (size_t i = 0; i < 2; ++i) {
+      EXPECT_LT((r.positions[i] - c.positions[i]).norm(), 1e-4) << ext;
+      EXPECT_LT((r.normals[i] - c.normals[i]).norm(), 1e-6) << ext;
+    }
+  }
+  EXPECT_THROW(parse_point_cloud("1 2 3 0 0\n", ".xyz", "short.xyz"), InputError);
+  EXPECT_THROW(parse_point_cloud("1 2 3 0 0 0\n", ".xyz", "zero.xyz"), InputError);
+  EXPECT_THROW(parse_point_cloud("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                 "property float z\nend_header\n1 2 3\n",
+                                 ".ply", "nonormal.ply"),
+               InputError);
+  EXPECT_THROW(read_point_cloud(dir + "/p.txt"), InputError);
+}
+
+}  // namespace
+}  // namespace mpumesh

@@ -1,0 +1,52 @@
+#include "cli_util.h"
+
+#include <cstdio>
+#include <fstream>
+
+#include "common/error.h"
+#include "io/atomic_file.h"
+
+namespace mpumesh::tools {
+
+void add_backend_options(CLI::App* cmd, BackendOptions& b) {
+  cmd->add_option("--backend", b.name, "cpu, gpu (Vulkan) or auto (a hardware GPU if any, else cpu)")
+      ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
+      ->capture_default_str();
+  cmd->add_option("--device", b.device, "Vulkan device index (see `mpumesh devices`)");
+}
+
+void add_common(CLI::App* cmd, CommonOptions& common) {
+  cmd->add_flag("--quiet,-q", common.quiet, "print nothing but errors");
+  cmd->add_flag("--json", common.json, "print a JSON summary on stdout");
+}
+
+vk::BackendChoice open_backend(const BackendOptions& b, const CommonOptions& common, Progress& progress) {
+  progress.begin("backend");
+  vk::BackendChoice choice = vk::make_backend(b.name, b.device);
+  progress.end();
+  if (!choice.note.empty() && !common.quiet) std::fprintf(stderr, "mpumesh: %s\n", choice.note.c_str());
+  progress.note("device: " + choice.backend->device());
+  return choice;
+}
+
+nlohmann::json backend_json(const vk::BackendChoice& choice) {
+  return {{"kind", choice.backend->kind()}, {"device", choice.backend->device()}, {"note", choice.note}};
+}
+
+void write_json_file(const nlohmann::json& j, const std::string& path) {
+  AtomicFile out(path);
+  {
+    std::ofstream os(out.temp_path());
+    os << j.dump(2) << '\n';
+    if (!os) throw InputError(path + ": write failed");
+  }
+  out.commit();
+}
+
+nlohmann::json stage_json(const Progress& p) {
+  nlohmann::json s = nlohmann::json::object();
+  for (const auto& [name, sec] : p.stage_seconds()) s[name] = sec;
+  return s;
+}
+
+}  // namespace mpumesh::tools

@@ -1,0 +1,30 @@
+// Pieces every subcommand shares: the backend and output options, the JSON file writer,
+// the stage-time summary.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "commands.h"
+#include "progress.h"
+#include "vulkan_backend.h"
+
+namespace mpumesh::tools {
+
+struct BackendOptions {
+  std::string name = "auto";
+  int device = -1;
+};
+
+void add_backend_options(CLI::App* cmd, BackendOptions& b);
+void add_common(CLI::App* cmd, CommonOptions& common);
+
+// Makes the backend, timed as the "backend" stage; prints the choice's note unless quiet.
+vk::BackendChoice open_backend(const BackendOptions& b, const CommonOptions& common, Progress& progress);
+nlohmann::json backend_json(const vk::BackendChoice& choice);
+
+// Writes `j` to `path` atomically.
+void write_json_file(const nlohmann::json& j, const std::string& path);
+nlohmann::json stage_json(const Progress& p);
+
+}  // namespace mpumesh::tools
