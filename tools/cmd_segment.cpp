@@ -31,15 +31,9 @@ void add_segment_command(CLI::App& app, CommonOptions& common, std::function<voi
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
       check_writable(o->output);
-      const seg::SegmentOptions opt = resolve(o->seg);
       Progress progress(common.quiet || common.json);
-      progress.begin("read volume");
-      const Volume vol = read_volume(o->input);
-      progress.end();
-      vk::BackendChoice choice = open_backend(o->backend, common, progress);
-      progress.begin("segment");
-      const seg::Segmentation s = seg::segment(vol, opt, *choice.backend);
-      progress.end();
+      const SegmentedVolume sv = read_and_segment(o->input, o->seg, o->backend, common, progress);
+      const auto& [vol, choice, opt, s] = sv;
       progress.begin("write mask");
       write_volume(seg::mask_volume(s, vol), o->output);
       progress.end();
@@ -92,15 +86,9 @@ void add_points_command(CLI::App& app, CommonOptions& common, std::function<void
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
       check_writable(o->output);
-      const seg::SegmentOptions opt = resolve(o->seg);
       Progress progress(common.quiet || common.json);
-      progress.begin("read volume");
-      const Volume vol = read_volume(o->input);
-      progress.end();
-      vk::BackendChoice choice = open_backend(o->backend, common, progress);
-      progress.begin("segment");
-      const seg::Segmentation s = seg::segment(vol, opt, *choice.backend);
-      progress.end();
+      const SegmentedVolume sv = read_and_segment(o->input, o->seg, o->backend, common, progress);
+      const auto& [vol, choice, opt, s] = sv;
       progress.begin("points");
       pts::PointOptions popt;
       popt.caps = !o->no_caps;

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "io/volume_io.h"
+
 namespace mpumesh::tools {
 
 void add_segment_options(CLI::App* cmd, SegmentCli& s) {
@@ -36,6 +38,20 @@ seg::SegmentOptions resolve(const SegmentCli& s) {
   o.cv = s.cv;
   if (o.method == seg::Method::kChanVese) seg::validate(o.cv);
   return o;
+}
+
+SegmentedVolume read_and_segment(const std::string& input, const SegmentCli& s, const BackendOptions& b,
+                                 const CommonOptions& common, Progress& progress) {
+  SegmentedVolume r;
+  r.options = resolve(s);
+  progress.begin("read volume");
+  r.volume = read_volume(input);
+  progress.end();
+  r.backend = open_backend(b, common, progress);
+  progress.begin("segment");
+  r.segmentation = seg::segment(r.volume, r.options, *r.backend.backend);
+  progress.end();
+  return r;
 }
 
 nlohmann::json segment_json(const seg::SegmentOptions& opt, const seg::Segmentation& s) {

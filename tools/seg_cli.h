@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "cli_util.h"
 #include "segment/segmentation.h"
 
 namespace mpumesh::tools {
@@ -19,6 +20,17 @@ struct SegmentCli {
 
 void add_segment_options(CLI::App* cmd, SegmentCli& s);
 seg::SegmentOptions resolve(const SegmentCli& s);
+// What the volume-reading commands share: the volume, the backend, the segmentation.
+struct SegmentedVolume {
+  Volume volume;
+  vk::BackendChoice backend;
+  seg::SegmentOptions options;
+  seg::Segmentation segmentation;
+};
+// Reads `input`, opens the backend and segments, each as a timed stage.
+SegmentedVolume read_and_segment(const std::string& input, const SegmentCli& s, const BackendOptions& b,
+                                 const CommonOptions& common, Progress& progress);
+
 nlohmann::json segment_json(const seg::SegmentOptions& opt, const seg::Segmentation& s);
 
 }  // namespace mpumesh::tools
