@@ -112,6 +112,103 @@ double ShellPhantom::distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal)
   return (y - x).norm();
 }
 
+double AnalyticShape::value(const Eigen::Vector3d& p) const {
+  switch (kind) {
+    case kSphere: return p.norm() - a;
+    case kEllipsoid: return std::sqrt(std::pow(p.x() / a, 2) + std::pow(p.y() / b, 2) + std::pow(p.z() / c, 2)) - 1;
+    case kTorus: return std::hypot(std::hypot(p.x(), p.y()) - a, p.z()) - b;
+  }
+  return 0;
+}
+
+Eigen::Vector3d AnalyticShape::gradient(const Eigen::Vector3d& p) const {
+  const double h = 1e-6;
+  Eigen::Vector3d g;
+  for (int d = 0; d < 3; ++d) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[d] = h;
+    g[d] = (value(p + e) - value(p - e)) / (2 * h);
+  }
+  return g;
+}
+
+Eigen::Vector3d AnalyticShape::half_extent() const {
+  if (kind == kTorus) return {a + b, a + b, b};
+  return {a, kind == kSphere ? a : b, kind == kSphere ? a : c};
+}
+
+double AnalyticShape::distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal, double* gauss) const {
+  if (kind == kSphere) {
+    if (normal) *normal = p.normalized();
+    if (gauss) *gauss = 1 / (a * a);
+    return std::abs(p.norm() - a);
+  }
+  if (kind == kTorus) {
+    const double rho = std::hypot(p.x(), p.y());
+    const Eigen::Vector3d ring = rho > 0 ? Eigen::Vector3d(a * p.x() / rho, a * p.y() / rho, 0) : Eigen::Vector3d(a, 0, 0);
+    const Eigen::Vector3d n = (p - ring).normalized();
+    if (normal) *normal = n;
+    const double cosv = n.head<2>().norm() * ((rho >= a) ? 1 : -1);
+    if (gauss) *gauss = cosv / (b * (a + b * cosv));
+    return std::abs((p - ring).norm() - b);
+  }
+  ShellPhantom e;
+  e.radii = {a, b, c};
+  Eigen::Vector3d n;
+  const double d = e.distance(p, &n);
+  if (normal) *normal = n;
+  if (gauss) {
+    // The closest point x, from the normal: n ∝ x / e², so x = e² n / |e n|... solved
+    // through the distance: x = p - d * n (outside) or p + d * n (inside).
+    const Eigen::Vector3d x = value(p) > 0 ? Eigen::Vector3d(p - d * n) : Eigen::Vector3d(p + d * n);
+    const double s = std::pow(x.x() / (a * a * a * a) * x.x() + x.y() * x.y() / (b * b * b * b) +
+                                  x.z() * x.z() / (c * c * c * c),
+                              2);
+    *gauss = 1 / (a * a * b * b * c * c * s);
+  }
+  return d;
+}
+
+PointCloud sample_shape(const AnalyticShape& s, double hxy, double hz, bool dense) {
+  PointCloud out;
+  const Eigen::Vector3d ext = s.half_extent() + Eigen::Vector3d::Constant(2 * std::max(hxy, hz));
+  const Eigen::Vector3d h(hxy, hxy, hz);
+  // Offsets keep grid lines off the shapes' symmetry planes.
+  const Eigen::Vector3d o(0.137 * hxy, 0.291 * hxy, 0.373 * hz);
+  std::array<int64_t, 3> n;
+  for (int d = 0; d < 3; ++d) n[size_t(d)] = int64_t(std::ceil(2 * ext[d] / h[d])) + 1;
+  auto at = [&](int64_t i, int64_t j, int64_t k) {
+    return Eigen::Vector3d(-ext.x() + o.x() + double(i) * h.x(), -ext.y() + o.y() + double(j) * h.y(),
+                           -ext.z() + o.z() + double(k) * h.z());
+  };
+  auto root = [&](Eigen::Vector3d a, Eigen::Vector3d b) {
+    double fa = s.value(a);
+    for (int it = 0; it < 60; ++it) {
+      const Eigen::Vector3d m = 0.5 * (a + b);
+      const double fm = s.value(m);
+      if ((fm < 0) == (fa < 0)) {
+        a = m;
+        fa = fm;
+      } else {
+        b = m;
+      }
+    }
+    const Eigen::Vector3d p = 0.5 * (a + b);
+    out.positions.push_back(p);
+    out.normals.push_back(s.gradient(p).normalized());
+  };
+  for (int64_t k = 0; k < n[2]; ++k)
+    for (int64_t j = 0; j < n[1]; ++j)
+      for (int64_t i = 0; i < n[0]; ++i) {
+        const Eigen::Vector3d p = at(i, j, k);
+        const bool in = s.value(p) < 0;
+        if (i + 1 < n[0] && (s.value(at(i + 1, j, k)) < 0) != in) root(p, at(i + 1, j, k));
+        if (j + 1 < n[1] && (s.value(at(i, j + 1, k)) < 0) != in) root(p, at(i, j + 1, k));
+        if (dense && k + 1 < n[2] && (s.value(at(i, j, k + 1)) < 0) != in) root(p, at(i, j, k + 1));
+      }
+  return out;
+}
+
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed) {
   Volume v;
   v.dims = dims;

@@ -9,6 +9,7 @@
 #include <string>
 
 #include "mesh/triangle_mesh.h"
+#include "points/point_cloud.h"
 #include "volume/volume.h"
 #include "vulkan_backend.h"
 
@@ -46,6 +47,24 @@ struct ShellPhantom {
   // 1 inside the outer surface, 0 outside (no partial volume).
   bool inside(const Eigen::Vector3d& p) const;
 };
+
+// Analytic closed surfaces with known distance, normal and Gaussian curvature: a sphere
+// (radius a), an ellipsoid (semi-axes a, b, c) and a torus (major a, minor b) around the
+// z axis, centred at the origin.
+struct AnalyticShape {
+  enum Kind { kSphere, kEllipsoid, kTorus } kind = kSphere;
+  double a = 20, b = 20, c = 20;
+  double value(const Eigen::Vector3d& p) const;  // < 0 inside
+  Eigen::Vector3d gradient(const Eigen::Vector3d& p) const;
+  // Distance to the surface, the closest surface point's outward normal and K there.
+  double distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal = nullptr, double* gauss = nullptr) const;
+  Eigen::Vector3d half_extent() const;
+};
+
+// Oriented points exactly on the surface: the roots of `value` on the edges of a grid of
+// spacing (h_xy, h_xy, h_z) that cross it (edges along z only when dense is true, i.e.
+// dense-uniform sampling; otherwise slice contours at z = k h_z, as a CT stack gives).
+PointCloud sample_shape(const AnalyticShape& s, double h_xy, double h_z, bool dense);
 
 // Random binary volume (values +-100), fixed seed.
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed);

@@ -1,0 +1,202 @@
+#include "mpu/local_fit.h"
+
+#include <cmath>
+#include <limits>
+
+namespace mpumesh::mpu {
+namespace {
+
+double bspline(double r, double R) {
+  double w, dw, d2w;
+  bspline_weight(r, R, w, dw, d2w);
+  return w;
+}
+
+// The points of the ball in the scaled local frame, with their weights.
+struct Local {
+  std::vector<double> u, v, w, weight;
+};
+
+Local to_local(const Ball& ball, const PointCloud& cloud, const Eigen::Matrix3d& frame) {
+  Local l;
+  const size_t n = ball.ids.size();
+  l.u.resize(n);
+  l.v.resize(n);
+  l.w.resize(n);
+  l.weight.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = cloud.positions[ball.ids[i]] - ball.centre;
+    const Eigen::Vector3d y = frame * d / ball.radius;
+    l.u[i] = y.x();
+    l.v[i] = y.y();
+    l.w[i] = y.z();
+    // A floor keeps points on the rim of a grown ball from vanishing from the fit.
+    l.weight[i] = std::max(bspline(d.norm(), ball.radius), 1e-3);
+  }
+  return l;
+}
+
+Leaf make_leaf(const Ball& ball, const Eigen::Matrix3d& frame, FitKind kind) {
+  Leaf leaf;
+  leaf.centre = ball.centre;
+  leaf.radius = ball.radius;
+  leaf.frame = frame;
+  leaf.kind = kind;
+  leaf.points = uint32_t(ball.ids.size());
+  return leaf;
+}
+
+}  // namespace
+
+double taubin_error(const Leaf& leaf, const Ball& ball, const PointCloud& cloud) {
+  double worst = 0;
+  for (uint32_t id : ball.ids) {
+    const Eigen::Vector3d y = leaf.frame * (cloud.positions[id] - leaf.centre) / leaf.radius;
+    double q, g[3], h[6];
+    local_poly(leaf.coeffs.data(), y.x(), y.y(), y.z(), q, g, h);
+    const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    const double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+    worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
+  }
+  return worst;
+}
+
+Eigen::Vector3d mean_normal(const Ball& ball, const PointCloud& cloud) {
+  Eigen::Vector3d n = Eigen::Vector3d::Zero();
+  for (uint32_t id : ball.ids)
+    n += std::max(bspline((cloud.positions[id] - ball.centre).norm(), ball.radius), 1e-3) * cloud.normals[id];
+  return n;
+}
+
+Eigen::Matrix3d frame_from_normal(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d a = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d u = (a - a.dot(n) * n).normalized();
+  const Eigen::Vector3d v = n.cross(u);
+  Eigen::Matrix3d m;
+  m.row(0) = u;
+  m.row(1) = v;
+  m.row(2) = n;
+  return m;
+}
+
+Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen::Vector3d& normal, int degree_cap,
+                          double* error) {
+  const Eigen::Matrix3d frame = frame_from_normal(normal);
+  const Local l = to_local(ball, cloud, frame);
+  const size_t n = l.u.size();
+  const int max_terms = bivariate_terms(4);
+  auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double s = 0;
+    for (size_t i = 0; i < n; ++i) s += l.weight[i] * a[i] * b[i];
+    return s;
+  };
+  // Monomial values at the points.
+  std::vector<std::vector<double>> mono(static_cast<size_t>(max_terms), std::vector<double>(n));
+  for (size_t i = 0; i < n; ++i) {
+    double m[15];
+    bivariate_monomials(l.u[i], l.v[i], m);
+    for (int k = 0; k < max_terms; ++k) mono[size_t(k)][i] = m[k];
+  }
+  // Orthogonal basis built incrementally (modified Gram-Schmidt, twice for stability):
+  // beta_j = Σ_k T[j][k] m_k; a monomial the points cannot tell from the earlier ones
+  // (e.g. v² when the points lie on a line) is dropped.
+  std::vector<std::vector<double>> beta;
+  std::vector<std::array<double, 15>> T;
+  std::vector<double> norm2, a;  // <beta, beta>, <heights, beta> / <beta, beta>
+  Leaf best = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
+  double best_error = std::numeric_limits<double>::infinity();
+  Coeffs h{};  // the monomial coefficients of h
+  int k = 0;
+  for (int degree = 1; degree <= std::clamp(degree_cap, 2, 4); ++degree) {
+    const int terms = bivariate_terms(degree);
+    // Degree 2 needs its 6 terms' worth of points; a higher degree twice its terms.
+    if (degree == 2 && n < 6) break;
+    if (degree > 2 && double(n) < 2.0 * terms) break;
+    for (; k < terms; ++k) {
+      std::vector<double> b = mono[size_t(k)];
+      std::array<double, 15> t{};
+      t[size_t(k)] = 1;
+      const double start = dot(b, b);
+      for (int pass = 0; pass < 2; ++pass)
+        for (size_t j = 0; j < beta.size(); ++j) {
+          const double p = dot(b, beta[j]) / norm2[j];
+          for (size_t i = 0; i < n; ++i) b[i] -= p * beta[j][i];
+          for (int c = 0; c < 15; ++c) t[size_t(c)] -= p * T[j][size_t(c)];
+        }
+      const double nb = dot(b, b);
+      if (!(nb > 1e-12 * start) || !(nb > 1e-300)) continue;
+      const double coef = dot(l.w, b) / nb;
+      for (int c = 0; c < 15; ++c) h[size_t(c)] += coef * t[size_t(c)];
+      beta.push_back(std::move(b));
+      T.push_back(t);
+      norm2.push_back(nb);
+      a.push_back(coef);
+    }
+    if (degree < 2) continue;
+    Leaf leaf = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
+    leaf.degree = uint8_t(degree);
+    for (int c = 0; c < 15; ++c) leaf.coeffs[size_t(c)] = -h[size_t(c)];
+    leaf.coeffs[15] = 1;  // q = w - h(u, v)
+    const double e = taubin_error(leaf, ball, cloud);
+    // A higher degree is kept only when it lowers the error by at least 10%.
+    if (degree == 2 || e < 0.9 * best_error) {
+      best = leaf;
+      best_error = e;
+    } else {
+      break;
+    }
+  }
+  *error = best_error;
+  return best;
+}
+
+Leaf fit_height_quadric(const Ball& ball, const PointCloud& cloud, const Eigen::Vector3d& normal, double* error) {
+  const Eigen::Matrix3d frame = frame_from_normal(normal);
+  const Local l = to_local(ball, cloud, frame);
+  Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+  for (size_t i = 0; i < l.u.size(); ++i) {
+    double m[15];
+    bivariate_monomials(l.u[i], l.v[i], m);
+    const Eigen::Map<const Eigen::Matrix<double, 6, 1>> mv(m);
+    A += l.weight[i] * mv * mv.transpose();
+    b += l.weight[i] * l.w[i] * mv;
+  }
+  const Eigen::Matrix<double, 6, 1> x = A.ldlt().solve(b);  // Ohtake's normal equations
+  Leaf leaf = make_leaf(ball, frame, FitKind::kHeightQuadric);
+  for (int c = 0; c < 6; ++c) leaf.coeffs[size_t(c)] = -x[c];
+  leaf.coeffs[15] = 1;
+  *error = x.allFinite() ? taubin_error(leaf, ball, cloud) : std::numeric_limits<double>::infinity();
+  return leaf;
+}
+
+Leaf fit_general_quadric(const Ball& ball, const PointCloud& cloud, const std::vector<AuxPoint>& aux,
+                         double* error) {
+  // Unknowns: terms 0-5 and 15-18 of the basis, in the identity frame.
+  static constexpr int kIdx[10] = {0, 1, 2, 3, 4, 5, 15, 16, 17, 18};
+  const Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
+  const Local l = to_local(ball, cloud, frame);
+  const size_t n = l.u.size();
+  Eigen::MatrixXd A(Eigen::Index(n + aux.size()), 10);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(A.rows());
+  double wsum = 0;
+  for (double w : l.weight) wsum += w;
+  auto row = [&](Eigen::Index r, double u, double v, double w, double scale) {
+    const double vals[10] = {1, u, v, u * u, u * v, v * v, w, w * w, u * w, v * w};
+    for (int c = 0; c < 10; ++c) A(r, c) = scale * vals[c];
+  };
+  for (size_t i = 0; i < n; ++i) row(Eigen::Index(i), l.u[i], l.v[i], l.w[i], std::sqrt(l.weight[i] / wsum));
+  const double aux_scale = aux.empty() ? 0 : std::sqrt(1.0 / double(aux.size()));
+  for (size_t j = 0; j < aux.size(); ++j) {
+    const Eigen::Vector3d y = (aux[j].position - ball.centre) / ball.radius;
+    row(Eigen::Index(n + j), y.x(), y.y(), y.z(), aux_scale);
+    rhs[Eigen::Index(n + j)] = aux_scale * aux[j].distance / ball.radius;
+  }
+  const Eigen::VectorXd x = A.colPivHouseholderQr().solve(rhs);
+  Leaf leaf = make_leaf(ball, frame, FitKind::kGeneralQuadric);
+  for (int c = 0; c < 10; ++c) leaf.coeffs[size_t(kIdx[c])] = x[c];
+  *error = (x.allFinite() && !aux.empty()) ? taubin_error(leaf, ball, cloud) : std::numeric_limits<double>::infinity();
+  return leaf;
+}
+
+}  // namespace mpumesh::mpu

@@ -1,0 +1,257 @@
+#include "mpu/mpu_fit.h"
+
+#include <nanoflann.hpp>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "common/error.h"
+#include "mpu/local_fit.h"
+
+namespace mpumesh::mpu {
+namespace {
+
+struct CloudAdaptor {
+  const std::vector<Eigen::Vector3d>* pts;
+  size_t kdtree_get_point_count() const { return pts->size(); }
+  double kdtree_get_pt(size_t i, size_t d) const { return (*pts)[i][int(d)]; }
+  template <class B>
+  bool kdtree_get_bbox(B&) const { return false; }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, CloudAdaptor>, CloudAdaptor, 3,
+                                                   uint32_t>;
+
+struct Cell {
+  Eigen::Vector3d centre;
+  double size;
+  int depth;
+};
+
+// The median over up to 20,000 evenly picked points of the distance to their k-th nearest
+// neighbour (k = 1: the sampling spacing; k = 12: about the largest gap, e.g. between
+// slices, since a slice's own contour holds only a few points that near).
+double median_spacing(const PointCloud& cloud, const KdTree& tree, size_t k = 1) {
+  const size_t step = std::max<size_t>(1, cloud.size() / 20000);
+  std::vector<double> d;
+  for (size_t i = 0; i < cloud.size(); i += step) {
+    uint32_t idx[16];
+    double d2[16];
+    nanoflann::KNNResultSet<double, uint32_t> rs(k + 1);
+    rs.init(idx, d2);
+    tree.findNeighbors(rs, cloud.positions[i].data(), nanoflann::SearchParams());
+    if (rs.size() == k + 1 && d2[k] > 0) d.push_back(std::sqrt(d2[k]));
+  }
+  if (d.empty()) return 1.0;
+  std::nth_element(d.begin(), d.begin() + ptrdiff_t(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
+
+}  // namespace
+
+const char* local_fit_name(LocalFit f) { return f == LocalFit::kOrthopoly ? "orthopoly" : "quadric"; }
+
+void validate(const FitOptions& o) {
+  auto need = [](bool ok, const char* name, const char* what) {
+    if (!ok) throw InputError(std::string("fit: --") + name + " must be " + what);
+  };
+  need(std::isfinite(o.eps) && o.eps >= 0, "eps", "zero (automatic) or positive");
+  need(o.nmin >= 6 && o.nmin <= 100000, "nmin", "between 6 and 100000");
+  need(std::isfinite(o.alpha) && o.alpha >= 0.5 && o.alpha <= 4, "alpha", "between 0.5 and 4");
+  need(std::isfinite(o.lambda) && o.lambda > 0 && o.lambda <= 1, "lambda", "in (0, 1]");
+  need(std::isfinite(o.min_radius), "min-radius", "a number (negative: automatic)");
+  need(o.max_depth >= 0 && o.max_depth <= 16, "max-depth", "between 0 and 16");
+  need(o.max_degree >= 2 && o.max_degree <= 4, "max-degree", "2, 3 or 4");
+  need(o.grid_cells >= 0 && o.grid_cells <= 512, "grid-cells", "between 0 (automatic) and 512");
+}
+
+MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* stats) {
+  validate(opt);
+  const auto t0 = std::chrono::steady_clock::now();
+  if (cloud.size() < size_t(opt.nmin))
+    throw InputError("fit: " + std::to_string(cloud.size()) + " points, fewer than --nmin " +
+                     std::to_string(opt.nmin));
+  CloudAdaptor adaptor{&cloud.positions};
+  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  const double eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud, tree);
+  const double min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * median_spacing(cloud, tree, 12);
+
+  Eigen::Vector3d lo = cloud.positions[0], hi = lo;
+  for (const auto& p : cloud.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double extent = std::max((hi - lo).maxCoeff(), 1e-6);
+  MpuSurface s;
+  s.box_size = extent * (1 + 2 * opt.margin);
+  s.box_min = 0.5 * (lo + hi) - Eigen::Vector3d::Constant(0.5 * s.box_size);
+
+  // Auxiliary points for a general quadric: the cell's corners and centre, with the mean
+  // signed distance to their 6 nearest points when all 6 agree in sign (Ohtake 2003).
+  auto aux_points = [&](const Cell& c) {
+    std::vector<AuxPoint> aux;
+    for (int k = 0; k < 9; ++k) {
+      Eigen::Vector3d q = c.centre;
+      if (k < 8)
+        q += 0.5 * c.size * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1);
+      uint32_t idx[6];
+      double d2[6];
+      nanoflann::KNNResultSet<double, uint32_t> rs(6);
+      rs.init(idx, d2);
+      tree.findNeighbors(rs, q.data(), nanoflann::SearchParams());
+      int pos = 0, neg = 0;
+      double sum = 0;
+      for (size_t j = 0; j < rs.size(); ++j) {
+        const double d = (q - cloud.positions[idx[j]]).dot(cloud.normals[idx[j]]);
+        (d > 0 ? pos : neg)++;
+        sum += d;
+      }
+      if (rs.size() > 0 && (pos == 0 || neg == 0)) aux.push_back({q, sum / double(rs.size())});
+    }
+    return aux;
+  };
+
+  struct Outcome {
+    Leaf leaf;
+    double error = 0;
+    bool split = false;
+  };
+  auto process = [&](const Cell& c) {
+    Ball ball{c.centre, std::max(opt.alpha * c.size * std::sqrt(3.0), min_radius), {}};
+    std::vector<std::pair<uint32_t, double>> found;
+    bool grown = false;
+    for (int grow = 0;; ++grow) {
+      found.clear();
+      tree.radiusSearch(ball.centre.data(), ball.radius * ball.radius, found, nanoflann::SearchParams(32, 0, false));
+      if (int(found.size()) >= opt.nmin || grow > 200) break;
+      ball.radius *= 1 + opt.lambda;
+      grown = true;
+    }
+    ball.ids.resize(found.size());
+    for (size_t i = 0; i < found.size(); ++i) ball.ids[i] = found[i].first;
+    std::sort(ball.ids.begin(), ball.ids.end());  // the fit must not depend on search order
+    Outcome o;
+    const Eigen::Vector3d nbar = mean_normal(ball, cloud);
+    bool within = nbar.norm() > 0;
+    const Eigen::Vector3d n = within ? Eigen::Vector3d(nbar.normalized()) : Eigen::Vector3d::UnitZ();
+    for (uint32_t id : ball.ids) within = within && cloud.normals[id].dot(n) > 0;
+    // A cell whose ball had to grow lies away from the surface; a height field fitted to
+    // the nearest patch would be extrapolated across the cell and cross zero there
+    // (spurious sheets). Its fit is the general quadric held to the signed distances of
+    // the auxiliary points at its corners and centre.
+    std::vector<AuxPoint> aux;
+    if (grown) aux = aux_points(c);
+    if (grown && aux.size() >= 5) {
+      o.leaf = fit_general_quadric(ball, cloud, aux, &o.error);
+    } else if (within) {
+      o.leaf = opt.local_fit == LocalFit::kOrthopoly ? fit_height_orthopoly(ball, cloud, n, opt.max_degree, &o.error)
+                                                     : fit_height_quadric(ball, cloud, n, &o.error);
+    } else {
+      if (aux.empty()) aux = aux_points(c);
+      o.leaf = fit_general_quadric(ball, cloud, aux, &o.error);
+    }
+    o.leaf.depth = uint8_t(c.depth);
+    // A cell whose ball had to grow holds too few points of its own: its children would
+    // grow to the same points, so it is not split (Ohtake et al.).
+    o.split = o.error > eps && c.depth < opt.max_depth && !grown;
+    if (!o.split && !std::isfinite(o.error)) {
+      // No usable fit at the depth cap (no auxiliary point agreed in sign): the plane
+      // through the ball's points along their mean normal, so f stays defined.
+      Leaf plane = o.leaf;
+      plane.kind = FitKind::kHeightOrthopoly;
+      plane.degree = 1;
+      plane.frame = frame_from_normal(n);
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (uint32_t id : ball.ids) mean += cloud.positions[id];
+      mean /= double(std::max<size_t>(ball.ids.size(), 1));
+      plane.coeffs = {};
+      plane.coeffs[15] = 1;
+      plane.coeffs[0] = -n.dot(mean - ball.centre) / ball.radius;
+      o.leaf = plane;
+      o.error = taubin_error(plane, ball, cloud);
+    }
+    return o;
+  };
+
+  std::vector<Cell> level = {{s.box_min + Eigen::Vector3d::Constant(0.5 * s.box_size), s.box_size, 0}};
+  FitStats st;
+  st.eps = eps;
+  st.min_radius = min_radius;
+  while (!level.empty()) {
+    std::vector<Outcome> out(level.size());
+    tbb::parallel_for(size_t(0), level.size(), [&](size_t i) { out[i] = process(level[i]); });
+    std::vector<Cell> next;
+    for (size_t i = 0; i < level.size(); ++i) {
+      const Cell& c = level[i];
+      if (out[i].split) {
+        for (int k = 0; k < 8; ++k)
+          next.push_back({c.centre + 0.25 * c.size * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1),
+                          0.5 * c.size, c.depth + 1});
+        continue;
+      }
+      const Leaf& leaf = out[i].leaf;
+      st.over_eps += out[i].error > eps;
+      s.leaves.push_back(leaf);
+      st.max_depth_reached = std::max(st.max_depth_reached, c.depth);
+    }
+    level = std::move(next);
+  }
+  for (const Leaf& l : s.leaves) {
+    if (l.kind == FitKind::kHeightOrthopoly) {
+      ++st.height_orthopoly;
+      ++st.degree_counts[std::min<size_t>(l.degree, 4)];
+    }
+    st.height_quadric += l.kind == FitKind::kHeightQuadric;
+    st.general_quadric += l.kind == FitKind::kGeneralQuadric;
+  }
+  st.leaves = int64_t(s.leaves.size());
+
+  uint32_t cells = uint32_t(opt.grid_cells);
+  if (cells == 0) {
+    std::vector<double> r;
+    for (const Leaf& l : s.leaves) r.push_back(l.radius);
+    std::nth_element(r.begin(), r.begin() + ptrdiff_t(r.size() / 2), r.end());
+    cells = uint32_t(std::clamp(std::ceil(s.box_size / r[r.size() / 2]), 4.0, 256.0));
+  }
+  build_lookup_grid(s, cells);
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (stats) *stats = st;
+  return s;
+}
+
+void build_lookup_grid(MpuSurface& s, uint32_t n) {
+  MPUMESH_ASSERT(n >= 1 && n <= 1024, "lookup grid size");
+  s.grid.dims = {n, n, n};
+  const double cell = s.box_size / double(n);
+  const size_t cells = size_t(n) * n * n;
+  std::vector<std::vector<uint32_t>> lists(cells);
+  for (uint32_t id = 0; id < s.leaves.size(); ++id) {
+    const Leaf& l = s.leaves[id];
+    const Eigen::Vector3d a = (l.centre - s.box_min - Eigen::Vector3d::Constant(l.radius)) / cell;
+    const Eigen::Vector3d b = (l.centre - s.box_min + Eigen::Vector3d::Constant(l.radius)) / cell;
+    int64_t lo[3], hi[3];
+    for (int d = 0; d < 3; ++d) {
+      lo[d] = std::clamp<int64_t>(int64_t(std::floor(a[d])), 0, n - 1);
+      hi[d] = std::clamp<int64_t>(int64_t(std::floor(b[d])), 0, n - 1);
+    }
+    for (int64_t z = lo[2]; z <= hi[2]; ++z)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t x = lo[0]; x <= hi[0]; ++x) {
+          // Ball-box test: the closest point of the cell to the centre.
+          const Eigen::Vector3d cmin = s.box_min + cell * Eigen::Vector3d(double(x), double(y), double(z));
+          const Eigen::Vector3d q = l.centre.cwiseMax(cmin).cwiseMin(cmin + Eigen::Vector3d::Constant(cell));
+          if ((q - l.centre).squaredNorm() < l.radius * l.radius) lists[size_t(x + n * (y + n * z))].push_back(id);
+        }
+  }
+  s.grid.offsets.assign(cells + 1, 0);
+  s.grid.leaf_ids.clear();
+  for (size_t c = 0; c < cells; ++c) {
+    s.grid.leaf_ids.insert(s.grid.leaf_ids.end(), lists[c].begin(), lists[c].end());
+    s.grid.offsets[c + 1] = uint32_t(s.grid.leaf_ids.size());
+  }
+}
+
+}  // namespace mpumesh::mpu

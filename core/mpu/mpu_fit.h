@@ -1,0 +1,52 @@
+// Stage 4: fits the MPU surface to an oriented point cloud (DESIGN.md, "MPU implicit").
+// An octree over the points' bounding cube (enlarged by `margin`); a cell of centre c and
+// diagonal d gets the support radius R = alpha d, grown by lambda R until the ball holds
+// nmin points; its fit is a height field when every normal in the ball lies within 90° of
+// the weighted mean normal, else a general quadric with auxiliary points; a cell whose
+// Taubin error exceeds eps is split into 8, down to max_depth, unless its ball had to grow
+// (its children would only grow back to the same points). Cells are fitted in
+// parallel, one octree level at a time, and kept in a fixed order: the result does not
+// depend on the thread count.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "mpu/mpu_surface.h"
+#include "points/point_cloud.h"
+
+namespace mpumesh::mpu {
+
+enum class LocalFit { kOrthopoly, kQuadric };
+
+struct FitOptions {
+  LocalFit local_fit = LocalFit::kOrthopoly;
+  double eps = 0;         // mm; 0 = 0.25 x the median nearest-neighbour spacing of the points
+  int nmin = 30;
+  double alpha = 0.75;
+  double lambda = 0.1;
+  int max_depth = 10;
+  // Smallest support radius (mm); negative = 1.5 x the median distance to the 12th
+  // nearest point, about the largest sampling gap (between slices for a CT stack), so that
+  // no ball fits one slice's collinear contour alone.
+  double min_radius = -1;
+  int max_degree = 4;     // orthopoly degree cap
+  double margin = 0.05;   // of the bounding box's largest side, on every side
+  int grid_cells = 0;     // lookup grid cells per side; 0 = from the median leaf radius
+};
+
+void validate(const FitOptions& o);
+
+struct FitStats {
+  int64_t leaves = 0, height_orthopoly = 0, height_quadric = 0, general_quadric = 0;
+  int64_t over_eps = 0;         // leaves at max depth still above eps
+  std::array<int64_t, 5> degree_counts{};  // orthopoly leaves by degree (index = degree)
+  int max_depth_reached = 0;
+  double eps = 0, min_radius = 0, seconds = 0;
+};
+
+MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* stats = nullptr);
+
+const char* local_fit_name(LocalFit f);
+
+}  // namespace mpumesh::mpu

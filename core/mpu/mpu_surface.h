@@ -1,0 +1,49 @@
+// The MPU implicit surface (Ohtake et al. 2003, with the paper's orthogonal-polynomial
+// height fields): leaves of an octree, each a local polynomial in its own frame with a
+// spherical support, blended by quadratic B-spline weights:
+//   f(x) = Σ w_i(x) Q_i(x) / Σ w_i(x),  w_i = b(3 |x - c_i| / (2 R_i)).
+// f < 0 inside, f > 0 outside, ∇f points out; near the surface f is about the signed
+// distance in mm. A uniform grid over the bounding cube lists, per cell, the leaves whose
+// support ball touches the cell: both backends find a point's leaves through it.
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "mpu/local_poly.h"
+
+namespace mpumesh::mpu {
+
+enum class FitKind : uint8_t { kHeightOrthopoly = 0, kHeightQuadric = 1, kGeneralQuadric = 2 };
+
+struct Leaf {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 1;                                   // support radius R, mm
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();  // rows: u, v, w axes
+  Coeffs coeffs{};                                     // of q(y), y = frame (x - c) / R
+  FitKind kind = FitKind::kHeightOrthopoly;
+  uint8_t degree = 2;   // of the height field (2 for quadrics)
+  uint8_t depth = 0;    // octree level
+  uint32_t points = 0;  // points in the support ball when fitted
+};
+
+struct LookupGrid {
+  std::array<uint32_t, 3> dims{1, 1, 1};
+  std::vector<uint32_t> offsets;  // cells + 1, CSR into leaf_ids
+  std::vector<uint32_t> leaf_ids;
+};
+
+struct MpuSurface {
+  Eigen::Vector3d box_min = Eigen::Vector3d::Zero();  // the bounding cube
+  double box_size = 1;
+  std::vector<Leaf> leaves;
+  LookupGrid grid;
+  double cell_size() const { return box_size / double(grid.dims[0]); }
+};
+
+// Builds the lookup grid: `cells_per_side` cells along each axis of the bounding cube.
+void build_lookup_grid(MpuSurface& s, uint32_t cells_per_side);
+
+}  // namespace mpumesh::mpu
