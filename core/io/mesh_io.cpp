@@ -15,13 +15,6 @@
 namespace mpumesh {
 namespace {
 
-std::string lower_ext(const std::string& path) {
-  auto dot = path.find_last_of('.');
-  std::string e = dot == std::string::npos ? "" : path.substr(dot);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return e;
-}
-
 void add_polygon(TriangleMesh& m, const std::vector<int64_t>& idx, const std::string& name) {
   if (idx.size() < 3) throw InputError(name + ": a face has fewer than 3 vertices");
   for (int64_t i : idx)
@@ -375,7 +368,7 @@ void write_off(const TriangleMesh& m, std::ostream& os) {
 }  // namespace
 
 MeshFormat mesh_format_from_path(const std::string& path) {
-  const std::string e = lower_ext(path);
+  const std::string e = lower_extension(path);
   if (e == ".ply") return MeshFormat::kPly;
   if (e == ".stl") return MeshFormat::kStl;
   if (e == ".obj") return MeshFormat::kObj;

@@ -18,13 +18,6 @@ TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vecto
 
 namespace {
 
-std::string lower_ext(const std::string& path) {
-  const auto dot = path.find_last_of('.');
-  std::string e = dot == std::string::npos ? "" : path.substr(dot);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return e;
-}
-
 void finish(PointCloud& c, const std::string& name) {
   for (size_t i = 0; i < c.size(); ++i) {
     const double len = c.normals[i].norm();
@@ -73,14 +66,14 @@ PointCloud parse_point_cloud(const std::string& bytes, const std::string& ext, c
 }
 
 PointCloud read_point_cloud(const std::string& path) {
-  const std::string ext = lower_ext(path);
+  const std::string ext = lower_extension(path);
   if (ext != ".ply" && ext != ".xyz")
     throw InputError(path + ": unknown point-cloud format '" + ext + "' (use .ply or .xyz)");
   return parse_point_cloud(read_file(path), ext, path);
 }
 
 void write_point_cloud(const PointCloud& cloud, const std::string& path) {
-  const std::string ext = lower_ext(path);
+  const std::string ext = lower_extension(path);
   if (ext != ".ply" && ext != ".xyz")
     throw InputError(path + ": unknown point-cloud format '" + ext + "' (use .ply or .xyz)");
   AtomicFile out(path);

@@ -102,7 +102,7 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
   // (e.g. v² when the points lie on a line) is dropped.
   std::vector<std::vector<double>> beta;
   std::vector<std::array<double, 15>> T;
-  std::vector<double> norm2, a;  // <beta, beta>, <heights, beta> / <beta, beta>
+  std::vector<double> norm2;  // <beta, beta>
   Leaf best = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
   double best_error = std::numeric_limits<double>::infinity();
   Coeffs h{};  // the monomial coefficients of h
@@ -130,7 +130,6 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
       beta.push_back(std::move(b));
       T.push_back(t);
       norm2.push_back(nb);
-      a.push_back(coef);
     }
     if (degree < 2) continue;
     Leaf leaf = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
