@@ -113,13 +113,7 @@ Segmentation segment(const Volume& vol, const SegmentOptions& opt, ComputeBacken
     return s;
   }
   validate(opt.cv);
-  ChanVeseStack stack;
-  stack.nx = vol.dims[0];
-  stack.ny = vol.dims[1];
-  stack.nz = vol.dims[2];
-  stack.u = window_image(vol, opt.window);
-  stack.phi = signed_distance_init(mask, vol.dims);
-  ChanVeseResult r = backend.chan_vese(stack, opt.cv);
+  ChanVeseResult r = backend.chan_vese(chan_vese_stack(vol, opt.window, mask), opt.cv);
   s.field = boundary_field(thr, r.phi, vol.dims);
   s.c1 = std::move(r.c1);
   s.c2 = std::move(r.c2);
@@ -128,6 +122,20 @@ Segmentation segment(const Volume& vol, const SegmentOptions& opt, ComputeBacken
   if (s.components.count == 0)
     throw InputError(vol.source + ": Chan-Vese left no voxel inside (try another --window or --lambda2)");
   return s;
+}
+
+std::vector<uint8_t> threshold_mask(const Volume& vol, mc::ThresholdRange range) {
+  return inner_mask(mc::make_threshold_field(vol, range));
+}
+
+ChanVeseStack chan_vese_stack(const Volume& vol, Window w, const std::vector<uint8_t>& mask) {
+  ChanVeseStack stack;
+  stack.nx = vol.dims[0];
+  stack.ny = vol.dims[1];
+  stack.nz = vol.dims[2];
+  stack.u = window_image(vol, w);
+  stack.phi = signed_distance_init(mask, vol.dims);
+  return stack;
 }
 
 Volume mask_volume(const Segmentation& s, const Volume& like) {

@@ -49,6 +49,12 @@ Segmentation segment(const Volume& vol, const SegmentOptions& opt, ComputeBacken
 // The final mask on the volume's own grid (0/1) and geometry, for writing.
 Volume mask_volume(const Segmentation& s, const Volume& like);
 
+// The threshold mask on the volume's grid (0/1, x fastest).
+std::vector<uint8_t> threshold_mask(const Volume& vol, mc::ThresholdRange range);
+
+// What Chan-Vese starts from: the windowed image and the signed distance to `mask`.
+ChanVeseStack chan_vese_stack(const Volume& vol, Window w, const std::vector<uint8_t>& mask);
+
 // The image windowed to 0..255 integers (stored as float), as Chan-Vese sees it.
 std::vector<float> window_image(const Volume& vol, Window w);
 

@@ -28,7 +28,7 @@ struct Accuracy {
   int64_t crossings = 0;  // grid edges where f changes sign
 };
 
-Accuracy measure(const test::AnalyticShape& shape, const mpu::MpuSurface& s, double h_xy, double h_z) {
+Accuracy measure(const test::AnalyticShape& shape, const mpu::MpuSurface& s) {
   Accuracy a;
   a.leaves = int64_t(s.leaves.size());
   // True surface points: a dense sample on a grid offset from the fitted one.
@@ -74,8 +74,6 @@ Accuracy measure(const test::AnalyticShape& shape, const mpu::MpuSurface& s, dou
           a.worst_sheet_mm = std::max(a.worst_sheet_mm, shape.distance(p));
           ++a.crossings;
         }
-  (void)h_xy;
-  (void)h_z;
   return a;
 }
 
@@ -96,7 +94,7 @@ TEST_P(MpuShapes, FitsTheTrueSurface) {
     opt.local_fit = kind;
     mpu::FitStats st;
     const mpu::MpuSurface s = mpu::fit_mpu(cloud, opt, &st);
-    const Accuracy a = measure(c.shape, s, h_xy, h_z);
+    const Accuracy a = measure(c.shape, s);
     std::printf(
         "[ %s %s ] %zu points, %lld leaves (%lld general quadrics, degrees 2/3/4: %lld/%lld/%lld, %lld over eps "
         "%.3f), %.2f s; |f| p95 %.4f max %.4f mm; normal p95 %.2f max %.2f deg; K rel p95 %.3f; %lld crossings, "

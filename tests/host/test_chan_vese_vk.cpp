@@ -15,15 +15,7 @@ namespace mpumesh {
 namespace {
 
 seg::ChanVeseStack stack_for(const Volume& vol, double threshold) {
-  seg::ChanVeseStack s;
-  s.nx = vol.dims[0];
-  s.ny = vol.dims[1];
-  s.nz = vol.dims[2];
-  s.u = seg::window_image(vol, seg::Window{});
-  std::vector<uint8_t> mask(vol.voxels.size());
-  for (size_t p = 0; p < mask.size(); ++p) mask[p] = vol.voxels[p] >= threshold;
-  s.phi = seg::signed_distance_init(mask, vol.dims);
-  return s;
+  return seg::chan_vese_stack(vol, seg::Window{}, seg::threshold_mask(vol, {threshold}));
 }
 
 struct Agreement {

@@ -55,19 +55,8 @@ Row measure(ComputeBackend& b, const Volume& vol, double threshold, int repeats,
     row.points = p.cloud.size();
   }
   if (chan_vese) {
-    seg::ChanVeseStack stack;
-    stack.nx = vol.dims[0];
-    stack.ny = vol.dims[1];
-    stack.nz = vol.dims[2];
-    stack.u = seg::window_image(vol, seg::Window{});
-    const mc::McField thr = mc::make_threshold_field(vol, {threshold});
-    std::vector<uint8_t> mask(size_t(vol.voxel_count()));
-    for (int64_t k = 0; k < vol.dims[2]; ++k)
-      for (int64_t j = 0; j < vol.dims[1]; ++j)
-        for (int64_t i = 0; i < vol.dims[0]; ++i)
-          mask[size_t(vol.index(i, j, k))] =
-              thr.values[size_t((i + 1) + thr.dims[0] * ((j + 1) + thr.dims[1] * (k + 1)))] >= 0.0f;
-    stack.phi = seg::signed_distance_init(mask, vol.dims);
+    const seg::ChanVeseStack stack =
+        seg::chan_vese_stack(vol, seg::Window{}, seg::threshold_mask(vol, {threshold}));
     for (int r = 0; r < std::max(1, repeats / 2); ++r) {
       auto t0 = Clock::now();
       row.cv_phi = b.chan_vese(stack, seg::ChanVeseParams{}).phi;
