@@ -112,24 +112,46 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
     // Degree 2 needs its 6 terms' worth of points; a higher degree twice its terms.
     if (degree == 2 && n < 6) break;
     if (degree > 2 && double(n) < 2.0 * terms) break;
-    for (; k < terms; ++k) {
-      std::vector<double> b = mono[size_t(k)];
+    // This degree's new basis functions, kept aside until the degree is accepted.
+    std::vector<std::vector<double>> new_beta;
+    std::vector<std::array<double, 15>> new_T;
+    std::vector<double> new_norm2;
+    double worst_ratio = 1;
+    for (int m = k; m < terms; ++m) {
+      std::vector<double> b = mono[size_t(m)];
       std::array<double, 15> t{};
-      t[size_t(k)] = 1;
+      t[size_t(m)] = 1;
       const double start = dot(b, b);
       for (int pass = 0; pass < 2; ++pass)
-        for (size_t j = 0; j < beta.size(); ++j) {
-          const double p = dot(b, beta[j]) / norm2[j];
-          for (size_t i = 0; i < n; ++i) b[i] -= p * beta[j][i];
-          for (int c = 0; c < 15; ++c) t[size_t(c)] -= p * T[j][size_t(c)];
+        for (size_t j = 0; j < beta.size() + new_beta.size(); ++j) {
+          const auto& bj = j < beta.size() ? beta[j] : new_beta[j - beta.size()];
+          const auto& Tj = j < beta.size() ? T[j] : new_T[j - beta.size()];
+          const double nj = j < beta.size() ? norm2[j] : new_norm2[j - beta.size()];
+          const double p = dot(b, bj) / nj;
+          for (size_t i = 0; i < n; ++i) b[i] -= p * bj[i];
+          for (int c = 0; c < 15; ++c) t[size_t(c)] -= p * Tj[size_t(c)];
         }
       const double nb = dot(b, b);
+      worst_ratio = std::min(worst_ratio, start > 0 ? nb / start : 0.0);
       if (!(nb > 1e-12 * start) || !(nb > 1e-300)) continue;
-      const double coef = dot(l.w, b) / nb;
-      for (int c = 0; c < 15; ++c) h[size_t(c)] += coef * t[size_t(c)];
-      beta.push_back(std::move(b));
-      T.push_back(t);
-      norm2.push_back(nb);
+      new_beta.push_back(std::move(b));
+      new_T.push_back(t);
+      new_norm2.push_back(nb);
+    }
+    // Above degree 2, a degree is taken only when the points determine every one of its
+    // terms: a monomial that is almost a combination of the lower ones over the points
+    // (|residual| < kDetermined |monomial|) is free between them. Contours on a few
+    // slices are such a case: a cubic across three contour lines vanishes on all of
+    // them, and fitting it would bend the height field freely between the slices.
+    constexpr double kDetermined = 0.05;
+    if (degree > 2 && worst_ratio < kDetermined * kDetermined) break;
+    k = terms;
+    for (size_t j = 0; j < new_beta.size(); ++j) {
+      const double coef = dot(l.w, new_beta[j]) / new_norm2[j];
+      for (int c = 0; c < 15; ++c) h[size_t(c)] += coef * new_T[j][size_t(c)];
+      beta.push_back(std::move(new_beta[j]));
+      T.push_back(new_T[j]);
+      norm2.push_back(new_norm2[j]);
     }
     if (degree < 2) continue;
     Leaf leaf = make_leaf(ball, frame, FitKind::kHeightOrthopoly);

@@ -123,9 +123,11 @@ MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* sta
     Ball ball{c.centre, std::max(opt.alpha * c.size * std::sqrt(3.0), min_radius), {}};
     std::vector<std::pair<uint32_t, double>> found;
     bool grown = false;
+    size_t initial = 0;
     for (int grow = 0;; ++grow) {
       found.clear();
       tree.radiusSearch(ball.centre.data(), ball.radius * ball.radius, found, nanoflann::SearchParams(32, 0, false));
+      if (grow == 0) initial = found.size();
       if (int(found.size()) >= opt.nmin || grow > 200) break;
       ball.radius *= 1 + opt.lambda;
       grown = true;
@@ -138,13 +140,16 @@ MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* sta
     bool within = nbar.norm() > 0;
     const Eigen::Vector3d n = within ? Eigen::Vector3d(nbar.normalized()) : Eigen::Vector3d::UnitZ();
     for (uint32_t id : ball.ids) within = within && cloud.normals[id].dot(n) > 0;
-    // A cell whose ball had to grow lies away from the surface; a height field fitted to
-    // the nearest patch would be extrapolated across the cell and cross zero there
-    // (spurious sheets). Its fit is the general quadric held to the signed distances of
-    // the auxiliary points at its corners and centre.
+    // A cell whose ball had to grow from under a quarter of nmin points lies away from
+    // the surface; a height field fitted to the nearest patch would be extrapolated
+    // across the cell and cross zero there (spurious sheets). Its fit is the general
+    // quadric held to the signed distances of the auxiliary points at its corners and
+    // centre. (Cells that grew from more points keep the height field: on slice stacks
+    // the general quadric there tripled the curvature error.)
     std::vector<AuxPoint> aux;
-    if (grown) aux = aux_points(c);
-    if (grown && aux.size() >= 5) {
+    const bool away = grown && 4 * initial < size_t(opt.nmin);
+    if (away) aux = aux_points(c);
+    if (away && aux.size() >= 5) {
       o.leaf = fit_general_quadric(ball, cloud, aux, &o.error);
     } else if (within) {
       o.leaf = opt.local_fit == LocalFit::kOrthopoly ? fit_height_orthopoly(ball, cloud, n, opt.max_degree, &o.error)

@@ -1,12 +1,12 @@
 // The MPU surface against analytic shapes sampled as oriented points (dense-uniform and as
 // slice stacks at 0.5 mm in-plane, 2 mm between slices): f at the true surface, normals,
-// Gaussian curvature, and no zero crossing far from the true surface. The slice-stack
-// accuracy bounds are not asserted yet: without a minimum support that spans the slice
-// gap, small cells fit one slice's collinear contour points (see the issue-4 notes).
+// Gaussian curvature, and no zero crossing far from the true surface; and the paper's
+// orthogonal-polynomial fit against Ohtake's quadric on the slice-stacked ellipsoid.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 #include "mpu/mpu_eval_ref.h"
@@ -89,12 +89,14 @@ TEST_P(MpuShapes, FitsTheTrueSurface) {
   const Case& c = GetParam();
   const double h_xy = 0.5, h_z = c.dense ? 0.5 : 2.0;
   const PointCloud cloud = test::sample_shape(c.shape, h_xy, h_z, c.dense);
+  std::map<mpu::LocalFit, Accuracy> by_kind;
   for (auto kind : {mpu::LocalFit::kOrthopoly, mpu::LocalFit::kQuadric}) {
     mpu::FitOptions opt;
     opt.local_fit = kind;
     mpu::FitStats st;
     const mpu::MpuSurface s = mpu::fit_mpu(cloud, opt, &st);
     const Accuracy a = measure(c.shape, s);
+    by_kind[kind] = a;
     std::printf(
         "[ %s %s ] %zu points, %lld leaves (%lld general quadrics, degrees 2/3/4: %lld/%lld/%lld, %lld over eps "
         "%.3f), %.2f s; |f| p95 %.4f max %.4f mm; normal p95 %.2f max %.2f deg; K rel p95 %.3f; %lld crossings, "
@@ -106,13 +108,29 @@ TEST_P(MpuShapes, FitsTheTrueSurface) {
     EXPECT_GT(a.crossings, 1000);
     // No zero crossing farther than two slice spacings from the true surface.
     EXPECT_LE(a.worst_sheet_mm, 2 * h_z) << mpu::local_fit_name(kind);
-    if (kind != mpu::LocalFit::kOrthopoly || !c.dense) continue;
-    // Dense sampling: |f| at the true surface within 1% of the spacing, normals within 2°,
-    // K within 5% over 95% of the surface (the torus, whose K changes sign, reaches 6.4%
-    // against 0.2 x its largest |K|: bounded at 7% until the fit improves).
-    EXPECT_LE(a.f_max, 0.01 * h_xy);
+    if (kind != mpu::LocalFit::kOrthopoly) continue;
+    // |f| at the true surface within 1% of the sampling spacing (of the slice spacing for
+    // a stack), normals within 2°.
+    EXPECT_LE(a.f_max, 0.01 * h_z);
     EXPECT_LE(a.normal_max_deg, 2.0);
-    EXPECT_LE(a.gauss_rel_p95, c.shape.kind == test::AnalyticShape::kTorus ? 0.07 : 0.05);
+    // K within 5% over 95% of the surface for dense samples and the sliced sphere (the
+    // torus, whose K changes sign, reaches 6.4% against 0.2 x its largest |K|). Slice
+    // stacks of the ellipsoid and torus reach 11% and 15% (measured): only ten and eight
+    // slices cross their 10 and 8 mm thickness, so K across the slices rests on contours
+    // 2 mm apart; bounded here at 15% and 20%.
+    double k_bound = 0.05;
+    if (c.shape.kind == test::AnalyticShape::kTorus) k_bound = c.dense ? 0.07 : 0.20;
+    if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) k_bound = 0.15;
+    EXPECT_LE(a.gauss_rel_p95, k_bound);
+  }
+  if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) {
+    // The orthogonal-polynomial fit is no worse than the quadric: distance of f = 0 to the
+    // true surface (|f| there, p95 and max) and the farthest zero crossing.
+    const Accuracy& o = by_kind[mpu::LocalFit::kOrthopoly];
+    const Accuracy& q = by_kind[mpu::LocalFit::kQuadric];
+    EXPECT_LE(o.f_p95, q.f_p95);
+    EXPECT_LE(o.f_max, q.f_max);
+    EXPECT_LE(o.worst_sheet_mm, q.worst_sheet_mm);
   }
 }
 

@@ -181,7 +181,9 @@ PointCloud sample_shape(const AnalyticShape& s, double hxy, double hz, bool dens
     return Eigen::Vector3d(-ext.x() + o.x() + double(i) * h.x(), -ext.y() + o.y() + double(j) * h.y(),
                            -ext.z() + o.z() + double(k) * h.z());
   };
-  auto root = [&](Eigen::Vector3d a, Eigen::Vector3d b) {
+  // cap_only: keep the root only where the surface is within 45° of the slice plane, as
+  // the points stage adds caps (core/points/slice_points.h).
+  auto root = [&](Eigen::Vector3d a, Eigen::Vector3d b, bool cap_only) {
     double fa = s.value(a);
     for (int it = 0; it < 60; ++it) {
       const Eigen::Vector3d m = 0.5 * (a + b);
@@ -194,17 +196,19 @@ PointCloud sample_shape(const AnalyticShape& s, double hxy, double hz, bool dens
       }
     }
     const Eigen::Vector3d p = 0.5 * (a + b);
+    const Eigen::Vector3d nrm = s.gradient(p).normalized();
+    if (cap_only && std::abs(nrm.z()) < std::sqrt(0.5)) return;
     out.positions.push_back(p);
-    out.normals.push_back(s.gradient(p).normalized());
+    out.normals.push_back(nrm);
   };
   for (int64_t k = 0; k < n[2]; ++k)
     for (int64_t j = 0; j < n[1]; ++j)
       for (int64_t i = 0; i < n[0]; ++i) {
         const Eigen::Vector3d p = at(i, j, k);
         const bool in = s.value(p) < 0;
-        if (i + 1 < n[0] && (s.value(at(i + 1, j, k)) < 0) != in) root(p, at(i + 1, j, k));
-        if (j + 1 < n[1] && (s.value(at(i, j + 1, k)) < 0) != in) root(p, at(i, j + 1, k));
-        if (dense && k + 1 < n[2] && (s.value(at(i, j, k + 1)) < 0) != in) root(p, at(i, j, k + 1));
+        if (i + 1 < n[0] && (s.value(at(i + 1, j, k)) < 0) != in) root(p, at(i + 1, j, k), false);
+        if (j + 1 < n[1] && (s.value(at(i, j + 1, k)) < 0) != in) root(p, at(i, j + 1, k), false);
+        if (k + 1 < n[2] && (s.value(at(i, j, k + 1)) < 0) != in) root(p, at(i, j, k + 1), !dense);
       }
   return out;
 }

@@ -62,8 +62,10 @@ struct AnalyticShape {
 };
 
 // Oriented points exactly on the surface: the roots of `value` on the edges of a grid of
-// spacing (h_xy, h_xy, h_z) that cross it (edges along z only when dense is true, i.e.
-// dense-uniform sampling; otherwise slice contours at z = k h_z, as a CT stack gives).
+// spacing (h_xy, h_xy, h_z) that cross it. dense: every edge (dense-uniform sampling).
+// Otherwise a slice stack as the points stage makes one from a CT: contours at
+// z = k h_z, plus caps, the roots on z edges where the surface lies within 45° of the
+// slice plane.
 PointCloud sample_shape(const AnalyticShape& s, double h_xy, double h_z, bool dense);
 
 // Random binary volume (values +-100), fixed seed.
