@@ -1,0 +1,117 @@
+// The .mpu file: round trip, refusal of corrupt and truncated files with a message naming
+// the file, and a fit whose bytes do not depend on the thread count.
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cstring>
+
+#include "common/error.h"
+#include "mpu/mpu_eval_ref.h"
+#include "mpu/mpu_fit.h"
+#include "mpu/mpu_io.h"
+#include "test_support.h"
+
+using namespace mpumesh;
+
+namespace {
+
+const mpu::MpuSurface& sphere_surface() {
+  static const mpu::MpuSurface s = [] {
+    const test::AnalyticShape shape{test::AnalyticShape::kSphere, 10, 10, 10};
+    return mpu::fit_mpu(test::sample_shape(shape, 0.5, 1.0, false), {});
+  }();
+  return s;
+}
+
+std::string refusal(const std::string& bytes) {
+  try {
+    mpu::parse_mpu(bytes, "bad.mpu");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(MpuFile, RoundTripKeepsEveryBitAndEveryValue) {
+  const auto& s = sphere_surface();
+  const std::string bytes = mpu::serialize_mpu(s);
+  const mpu::MpuSurface back = mpu::parse_mpu(bytes, "sphere.mpu");
+  EXPECT_EQ(mpu::serialize_mpu(back), bytes);
+  ASSERT_EQ(back.leaves.size(), s.leaves.size());
+  for (const Eigen::Vector3d p : {Eigen::Vector3d(10, 0.3, 0.2), Eigen::Vector3d(0.1, -9.7, 2.0),
+                                  Eigen::Vector3d(1, 2, 3)}) {
+    const auto a = mpu::evaluate(s, p), b = mpu::evaluate(back, p);
+    EXPECT_EQ(a.f, b.f);
+    EXPECT_EQ(a.g, b.g);
+    EXPECT_EQ(a.H, b.H);
+  }
+  const std::string path = ::testing::TempDir() + "/round.mpu";
+  mpu::write_mpu(s, path);
+  EXPECT_EQ(mpu::serialize_mpu(mpu::read_mpu(path)), bytes);
+}
+
+TEST(MpuFile, RefusesTruncatedCorruptAndForeignFiles) {
+  const std::string good = mpu::serialize_mpu(sphere_surface());
+  EXPECT_NE(refusal("").find("empty"), std::string::npos);
+  // Every truncation point in the header, and some in the body.
+  for (size_t n : {size_t(1), size_t(7), size_t(8), size_t(12), size_t(40), size_t(71), size_t(72), size_t(500),
+                   good.size() / 2, good.size() - 1}) {
+    const std::string m = refusal(good.substr(0, n));
+    EXPECT_NE(m.find("bad.mpu"), std::string::npos) << n;
+    EXPECT_TRUE(m.find("truncated") != std::string::npos || m.find("magic") != std::string::npos) << n << ": " << m;
+  }
+  EXPECT_NE(refusal(good + "x").find("past the end"), std::string::npos);
+  // One flipped bit anywhere after the header is caught by the CRC.
+  for (size_t at : {size_t(80), good.size() / 3, good.size() - 10}) {
+    std::string bad = good;
+    bad[at] = char(bad[at] ^ 0x10);
+    EXPECT_NE(refusal(bad).find("CRC"), std::string::npos) << at;
+  }
+  std::string text = good;
+  text.replace(4, 2, "\n");  // a CRLF -> LF conversion
+  EXPECT_NE(refusal(text).find("magic"), std::string::npos);
+  EXPECT_NE(refusal("ply\nformat ascii 1.0\n").find("magic"), std::string::npos);
+  std::string v2 = good;
+  v2[8] = 2;
+  EXPECT_NE(refusal(v2).find("version 2"), std::string::npos);
+  // A huge leaf count is refused from the size, before any allocation.
+  std::string huge = good;
+  const uint32_t big = 0xFFFFFFFFu;
+  std::memcpy(&huge[48], &big, 4);
+  EXPECT_NE(refusal(huge).find("truncated"), std::string::npos);
+  EXPECT_THROW(mpu::read_mpu(::testing::TempDir() + "/no-such.mpu"), InputError);
+}
+
+TEST(MpuFile, RefusesOutOfRangeValuesEvenWithAGoodCrc) {
+  const auto& s = sphere_surface();
+  auto with = [&](auto change) {
+    mpu::MpuSurface t = s;
+    change(t);
+    return refusal(mpu::serialize_mpu(t));
+  };
+  EXPECT_NE(with([](mpu::MpuSurface& t) { t.leaves[3].radius = -1; }).find("radius"), std::string::npos);
+  EXPECT_NE(with([](mpu::MpuSurface& t) { t.leaves[0].coeffs[4] = std::nan(""); }).find("non-finite"),
+            std::string::npos);
+  EXPECT_NE(with([](mpu::MpuSurface& t) { t.leaves[1].kind = mpu::FitKind(7); }).find("kind"), std::string::npos);
+  EXPECT_NE(with([](mpu::MpuSurface& t) { t.grid.leaf_ids[0] = uint32_t(t.leaves.size()); }).find("names leaf"),
+            std::string::npos);
+  EXPECT_NE(with([](mpu::MpuSurface& t) { t.box_size = 0; }).find("size"), std::string::npos);
+}
+
+TEST(MpuFit, SameBytesWhateverTheThreadCount) {
+  const test::AnalyticShape shape{test::AnalyticShape::kTorus, 12, 4, 4};
+  const PointCloud cloud = test::sample_shape(shape, 0.5, 1.0, false);
+  std::string one, many;
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 1);
+    one = mpu::serialize_mpu(mpu::fit_mpu(cloud, {}));
+  }
+  {
+    tbb::global_control c(tbb::global_control::max_allowed_parallelism, 4);
+    many = mpu::serialize_mpu(mpu::fit_mpu(cloud, {}));
+  }
+  EXPECT_GT(one.size(), 1000u);
+  EXPECT_TRUE(one == many) << "fits differ between 1 and 4 threads";
+}
