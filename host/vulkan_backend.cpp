@@ -4,6 +4,7 @@
 #include "compute/cpu_backend.h"
 #include "kernels/chan_vese_vk.h"
 #include "kernels/mc_vk.h"
+#include "kernels/mpu_eval_vk.h"
 #include "vk/vk_check.h"
 
 namespace mpumesh::vk {
@@ -23,6 +24,13 @@ seg::ChanVeseResult VulkanBackend::chan_vese(const seg::ChanVeseStack& stack, co
   if (!cv_) cv_ = std::make_unique<ChanVeseKernel>(ctx_);
   kernel_ms_.clear();
   return cv_->run(stack, p, kernel_ms_);
+}
+
+std::vector<mpu::EvalRow> VulkanBackend::mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
+  if (!mpu_) mpu_ = std::make_unique<MpuEvalKernel>(ctx_);
+  kernel_ms_.clear();
+  const MpuDeviceSurface dev(ctx_, s);
+  return mpu_->run(dev, points, kernel_ms_);
 }
 
 BackendChoice make_backend(const std::string& name, int device_index) {

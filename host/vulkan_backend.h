@@ -14,6 +14,7 @@ namespace mpumesh::vk {
 
 class McKernel;
 class ChanVeseKernel;
+class MpuEvalKernel;
 
 class VulkanBackend : public ComputeBackend {
  public:
@@ -23,12 +24,15 @@ class VulkanBackend : public ComputeBackend {
   std::string device() const override;
   mc::McMesh marching_cubes(const mc::McField& field) override;
   seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) override;
+  // Uploads the surface on each call (host/kernels/mpu_eval_vk.h keeps one resident).
+  std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) override;
   Context& context() { return ctx_; }
 
  private:
   Context ctx_;
   std::unique_ptr<McKernel> mc_;
   std::unique_ptr<ChanVeseKernel> cv_;
+  std::unique_ptr<MpuEvalKernel> mpu_;
 };
 
 struct BackendChoice {

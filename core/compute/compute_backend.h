@@ -7,6 +7,7 @@
 #include <string>
 
 #include "mc/marching_cubes_ref.h"
+#include "mpu/mpu_eval_ref.h"
 #include "segment/chan_vese_ref.h"
 
 namespace mpumesh {
@@ -24,6 +25,9 @@ class ComputeBackend {
 
   // Chan-Vese on every slice; see core/segment/chan_vese_ref.h.
   virtual seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) = 0;
+
+  // f, ∇f and curvature of an MPU surface at each point; see core/mpu/mpu_eval_ref.h.
+  virtual std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) = 0;
 
   // Time per kernel (ms) of the last call, measured on the device; may be empty.
   const std::map<std::string, double>& kernel_ms() const { return kernel_ms_; }

@@ -32,4 +32,12 @@ seg::ChanVeseResult CpuBackend::chan_vese(const seg::ChanVeseStack& stack, const
   return r;
 }
 
+std::vector<mpu::EvalRow> CpuBackend::mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::vector<mpu::EvalRow> rows = mpu::evaluate_all(s, points);
+  kernel_ms_.clear();
+  kernel_ms_["mpu_eval"] = ms_since(t0);
+  return rows;
+}
+
 }  // namespace mpumesh

@@ -13,6 +13,7 @@ class CpuBackend : public ComputeBackend {
   std::string device() const override;
   mc::McMesh marching_cubes(const mc::McField& field) override;
   seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) override;
+  std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) override;
 };
 
 }  // namespace mpumesh

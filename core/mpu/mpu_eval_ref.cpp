@@ -20,7 +20,9 @@ Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
     }
   }
   const size_t cell = size_t(c[0] + dims[0] * (c[1] + int64_t(dims[1]) * c[2]));
-  double N = 0, D = 0;
+  // Sums about the first leaf's value f0 (f = f0 + N / D), as the shader takes them, where
+  // float32 would lose the small f to the large Σ w Q.
+  double f0 = 0, N = 0, D = 0;
   Eigen::Vector3d gN = Eigen::Vector3d::Zero(), gD = Eigen::Vector3d::Zero();
   Eigen::Matrix3d HN = Eigen::Matrix3d::Zero(), HD = Eigen::Matrix3d::Zero();
   for (uint32_t k = s.grid.offsets[cell]; k < s.grid.offsets[cell + 1]; ++k) {
@@ -45,23 +47,27 @@ Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
     Eigen::Matrix3d Hl;
     Hl << hq[0], hq[1], hq[2], hq[1], hq[3], hq[4], hq[2], hq[4], hq[5];
     const Eigen::Matrix3d HQ = l.frame.transpose() * Hl * l.frame / l.radius;
+    if (out.leaves == 0) f0 = Q;
+    const double Qs = Q - f0;
     const Eigen::Vector3d gw = k1 * d;
     const Eigen::Matrix3d Hw = k1 * Eigen::Matrix3d::Identity() + k2 * d * d.transpose();
-    N += w * Q;
+    N += w * Qs;
     D += w;
-    gN += Q * gw + w * gQ;
+    gN += Qs * gw + w * gQ;
     gD += gw;
-    HN += Q * Hw + gw * gQ.transpose() + gQ * gw.transpose() + w * HQ;
+    HN += Qs * Hw + gw * gQ.transpose() + gQ * gw.transpose() + w * HQ;
     HD += Hw;
     ++out.leaves;
   }
   if (!(D > 0)) {
     out.f = s.box_size;
+    out.leaves = 0;
     return out;
   }
-  out.f = N / D;
-  out.g = (gN - out.f * gD) / D;
-  out.H = (HN - out.f * HD - out.g * gD.transpose() - gD * out.g.transpose()) / D;
+  const double fs = N / D;
+  out.f = f0 + fs;
+  out.g = (gN - fs * gD) / D;
+  out.H = (HN - fs * HD - out.g * gD.transpose() - gD * out.g.transpose()) / D;
   return out;
 }
 

@@ -1,0 +1,102 @@
+#include "kernels/mpu_eval_vk.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "mpu_eval.spv.h"
+#include "vk/command.h"
+
+namespace mpumesh::vk {
+namespace {
+
+const std::vector<Binding> kBindings = {
+    {MPU_BIND_LEAVES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, {MPU_BIND_OFFSETS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {MPU_BIND_LEAF_IDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}, {MPU_BIND_POINTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},
+    {MPU_BIND_FG, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER},     {MPU_BIND_CURV, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER}};
+
+// Points per dispatch: bounds the device memory of the point and result buffers (48 B
+// per point).
+constexpr size_t kChunk = size_t(1) << 22;
+
+template <class T>
+std::unique_ptr<Buffer> upload(Context& ctx, const std::vector<T>& v) {
+  // A zero-sized buffer is not allowed; an empty list still gets one element.
+  const VkDeviceSize bytes = std::max<VkDeviceSize>(v.size() * sizeof(T), sizeof(T));
+  auto b = std::make_unique<Buffer>(ctx, bytes, kStorage);
+  if (!v.empty()) b->upload(v.data(), v.size() * sizeof(T));
+  return b;
+}
+
+}  // namespace
+
+MpuDeviceSurface::MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s) {
+  origin = s.box_min + Eigen::Vector3d::Constant(0.5 * s.box_size);
+  std::vector<abi::vec4> packed(s.leaves.size() * MPU_LEAF_VEC4);
+  for (size_t i = 0; i < s.leaves.size(); ++i) {
+    const mpu::Leaf& l = s.leaves[i];
+    abi::vec4* p = &packed[i * MPU_LEAF_VEC4];
+    const Eigen::Vector3d c = l.centre - origin;
+    p[0] = {float(c.x()), float(c.y()), float(c.z()), float(l.radius)};
+    for (int r = 0; r < 3; ++r)
+      p[1 + r] = {float(l.frame(r, 0)), float(l.frame(r, 1)), float(l.frame(r, 2)), r == 0 ? float(1.0 / l.radius) : 0.f};
+    float coeffs[20] = {};
+    for (int k = 0; k < mpu::kTerms; ++k) coeffs[k] = float(l.coeffs[size_t(k)]);
+    for (int v = 0; v < 5; ++v) p[4 + v] = {coeffs[4 * v], coeffs[4 * v + 1], coeffs[4 * v + 2], coeffs[4 * v + 3]};
+  }
+  leaves = upload(ctx, packed);
+  offsets = upload(ctx, s.grid.offsets);
+  leaf_ids = upload(ctx, s.grid.leaf_ids);
+  const Eigen::Vector3d lo = s.box_min - origin;
+  push.box_min_x = float(lo.x());
+  push.box_min_y = float(lo.y());
+  push.box_min_z = float(lo.z());
+  push.inv_cell = float(1.0 / s.cell_size());
+  push.nx = s.grid.dims[0];
+  push.ny = s.grid.dims[1];
+  push.nz = s.grid.dims[2];
+  push.far_value = float(s.box_size);
+}
+
+MpuEvalKernel::MpuEvalKernel(Context& ctx)
+    : ctx_(ctx), eval_(ctx, kSpv_mpu_eval, kBindings, sizeof(abi::MpuPush), default_workgroup_size(ctx)) {}
+
+std::vector<mpu::EvalRow> MpuEvalKernel::run(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points,
+                                             std::map<std::string, double>& kernel_ms) {
+  std::vector<mpu::EvalRow> rows(points.size());
+  for (size_t first = 0; first < points.size(); first += kChunk) {
+    const size_t n = std::min(kChunk, points.size() - first);
+    std::vector<abi::vec4> in(n);
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d p = points[first + i] - s.origin;
+      in[i] = {float(p.x()), float(p.y()), float(p.z()), 0.f};
+    }
+    Buffer pts(ctx_, n * sizeof(abi::vec4), kStorage), fg(ctx_, n * sizeof(abi::vec4), kStorage),
+        curv(ctx_, n * sizeof(abi::vec4), kStorage);
+    pts.upload(in.data(), n * sizeof(abi::vec4));
+    abi::MpuPush push = s.push;
+    const Grid grid = grid_for(ctx_, n, eval_.workgroup_size());
+    push.count = uint32_t(n);
+    push.row = grid.row;
+    Recorder rec(ctx_);
+    const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &pts, &fg, &curv};
+    rec.dispatch(eval_, bufs, &push, grid, "mpu_eval");
+    rec.submit_and_wait();
+    for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+    const auto a = fg.read<abi::vec4>(n), c = curv.read<abi::vec4>(n);
+    for (size_t i = 0; i < n; ++i) {
+      mpu::EvalRow& r = rows[first + i];
+      for (int d = 0; d < 3; ++d) r.x[d] = points[first + i][d];
+      r.f = a[i].x;
+      r.g[0] = a[i].y;
+      r.g[1] = a[i].z;
+      r.g[2] = a[i].w;
+      r.k1 = c[i].x;
+      r.k2 = c[i].y;
+      r.gauss = c[i].z;
+      r.mean = c[i].w;
+    }
+  }
+  return rows;
+}
+
+}  // namespace mpumesh::vk

@@ -1,0 +1,38 @@
+// MPU evaluation on the GPU (shaders/mpu_eval.comp): f, ∇f and curvature at many points.
+// The surface is uploaded once (MpuDeviceSurface) and stays on the device for as many
+// evaluations as the caller makes; the particle kernels bind the same buffers.
+#pragma once
+
+#include <Eigen/Dense>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mpu/mpu_eval_ref.h"
+#include "shared/mpu_abi.h"
+#include "vk/buffer.h"
+#include "vk/pipeline.h"
+
+namespace mpumesh::vk {
+
+struct MpuDeviceSurface {
+  MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s);
+  Eigen::Vector3d origin;  // subtracted from every position before it becomes float
+  abi::MpuPush push{};     // the surface's part of the push block (count and row unset)
+  std::unique_ptr<Buffer> leaves, offsets, leaf_ids;
+};
+
+class MpuEvalKernel {
+ public:
+  explicit MpuEvalKernel(Context& ctx);
+  // Rows as mpu::evaluate_all gives them (computed in float32).
+  std::vector<mpu::EvalRow> run(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points,
+                                std::map<std::string, double>& kernel_ms);
+
+ private:
+  Context& ctx_;
+  ComputePipeline eval_;
+};
+
+}  // namespace mpumesh::vk
