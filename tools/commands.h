@@ -20,6 +20,9 @@ void add_quality_command(CLI::App& app, CommonOptions& common, std::function<voi
 void add_convert_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_segment_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_points_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_fit_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_eval_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_polygonize_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 
 }  // namespace mpumesh::tools

@@ -65,6 +65,26 @@ PointCloud parse_point_cloud(const std::string& bytes, const std::string& ext, c
   return c;
 }
 
+std::vector<Eigen::Vector3d> parse_positions(const std::string& b, const std::string& name) {
+  std::vector<Eigen::Vector3d> out;
+  std::istringstream in(b);
+  std::string line;
+  for (int64_t no = 1; std::getline(in, line); ++no) {
+    const auto hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    std::istringstream ls(line);
+    Eigen::Vector3d p;
+    if (!(ls >> p.x() >> p.y() >> p.z()) || !p.allFinite())
+      throw InputError(name + ": line " + std::to_string(no) + " does not start with three finite numbers x y z");
+    out.push_back(p);
+  }
+  if (out.empty()) throw InputError(name + ": no points");
+  return out;
+}
+
+std::vector<Eigen::Vector3d> read_positions(const std::string& path) { return parse_positions(read_file(path), path); }
+
 PointCloud read_point_cloud(const std::string& path) {
   const std::string ext = lower_extension(path);
   if (ext != ".ply" && ext != ".xyz")

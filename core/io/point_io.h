@@ -16,4 +16,9 @@ void write_point_cloud(const PointCloud& cloud, const std::string& path);
 // From memory, for the fuzzers and tests; `ext` is ".ply" or ".xyz".
 PointCloud parse_point_cloud(const std::string& bytes, const std::string& ext, const std::string& name);
 
+// Query positions (`mpumesh eval`): text, one point per line, its first three numbers
+// x y z (further columns, such as normals, are ignored); '#' starts a comment.
+std::vector<Eigen::Vector3d> parse_positions(const std::string& bytes, const std::string& name);
+std::vector<Eigen::Vector3d> read_positions(const std::string& path);
+
 }  // namespace mpumesh

@@ -71,6 +71,32 @@ Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
   return out;
 }
 
+double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d rel = (x - s.box_min) / s.cell_size();
+  const auto& dims = s.grid.dims;
+  int64_t c[3];
+  for (int d = 0; d < 3; ++d) {
+    c[d] = int64_t(std::floor(rel[d]));
+    if (c[d] < 0 || c[d] >= int64_t(dims[size_t(d)])) return s.box_size;
+  }
+  const size_t cell = size_t(c[0] + dims[0] * (c[1] + int64_t(dims[1]) * c[2]));
+  double N = 0, D = 0;
+  for (uint32_t k = s.grid.offsets[cell]; k < s.grid.offsets[cell + 1]; ++k) {
+    const Leaf& l = s.leaves[s.grid.leaf_ids[k]];
+    const Eigen::Vector3d d = x - l.centre;
+    const double r = d.norm();
+    if (r >= l.radius) continue;
+    double w, dw, d2w;
+    bspline_weight(r, l.radius, w, dw, d2w);
+    const Eigen::Vector3d y = l.frame * d / l.radius;
+    double q, gq[3], hq[6];
+    local_poly(l.coeffs.data(), y.x(), y.y(), y.z(), q, gq, hq);
+    N += w * l.radius * q;
+    D += w;
+  }
+  return D > 0 ? N / D : s.box_size;
+}
+
 Curvature curvature(const Eigen::Vector3d& g, const Eigen::Matrix3d& H) {
   Curvature c;
   const double len = g.norm();

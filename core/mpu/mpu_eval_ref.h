@@ -25,6 +25,8 @@ struct Curvature {
 };
 
 Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x);
+// f alone (no derivatives), for polygonization.
+double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x);
 Curvature curvature(const Eigen::Vector3d& g, const Eigen::Matrix3d& H);
 
 // Many points, in parallel: one row per point, x y z f gx gy gz k1 k2 K H (the layout of

@@ -88,6 +88,8 @@ MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* sta
   MpuSurface s;
   s.box_size = extent * (1 + 2 * opt.margin);
   s.box_min = 0.5 * (lo + hi) - Eigen::Vector3d::Constant(0.5 * s.box_size);
+  s.data_min = lo;
+  s.data_max = hi;
 
   // Auxiliary points for a general quadric: the cell's corners and centre, with the mean
   // signed distance to their 6 nearest points when all 6 agree in sign (Ohtake 2003).
@@ -120,7 +122,12 @@ MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* sta
     bool split = false;
   };
   auto process = [&](const Cell& c) {
-    Ball ball{c.centre, std::max(opt.alpha * c.size * std::sqrt(3.0), min_radius), {}};
+    const double natural = opt.alpha * c.size * std::sqrt(3.0);
+    Ball ball{c.centre, std::max(natural, min_radius), {}};
+    // A ball held at the smallest radius would stay that size in the children: splitting
+    // cannot bring it closer to the data, and on a noisy or two-sheeted patch it would
+    // go on to the depth cap (8^depth cells).
+    const bool at_min_radius = natural < min_radius;
     std::vector<std::pair<uint32_t, double>> found;
     bool grown = false;
     size_t initial = 0;
@@ -161,7 +168,7 @@ MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* sta
     o.leaf.depth = uint8_t(c.depth);
     // A cell whose ball had to grow holds too few points of its own: its children would
     // grow to the same points, so it is not split (Ohtake et al.).
-    o.split = o.error > eps && c.depth < opt.max_depth && !grown;
+    o.split = o.error > eps && c.depth < opt.max_depth && !grown && !at_min_radius;
     if (!o.split && !std::isfinite(o.error)) {
       // No usable fit at the depth cap (no auxiliary point agreed in sign): the plane
       // through the ball's points along their mean normal, so f stays defined.
@@ -232,9 +239,9 @@ void build_lookup_grid(MpuSurface& s, uint32_t n) {
   s.grid.dims = {n, n, n};
   const double cell = s.box_size / double(n);
   const size_t cells = size_t(n) * n * n;
-  std::vector<std::vector<uint32_t>> lists(cells);
-  for (uint32_t id = 0; id < s.leaves.size(); ++id) {
-    const Leaf& l = s.leaves[id];
+  // Calls fn(cell index) for every grid cell that leaf l's ball touches (ball-box test:
+  // the cell's closest point to the centre lies inside the ball).
+  auto for_cells = [&](const Leaf& l, auto&& fn) {
     const Eigen::Vector3d a = (l.centre - s.box_min - Eigen::Vector3d::Constant(l.radius)) / cell;
     const Eigen::Vector3d b = (l.centre - s.box_min + Eigen::Vector3d::Constant(l.radius)) / cell;
     int64_t lo[3], hi[3];
@@ -245,18 +252,19 @@ void build_lookup_grid(MpuSurface& s, uint32_t n) {
     for (int64_t z = lo[2]; z <= hi[2]; ++z)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t x = lo[0]; x <= hi[0]; ++x) {
-          // Ball-box test: the closest point of the cell to the centre.
           const Eigen::Vector3d cmin = s.box_min + cell * Eigen::Vector3d(double(x), double(y), double(z));
           const Eigen::Vector3d q = l.centre.cwiseMax(cmin).cwiseMin(cmin + Eigen::Vector3d::Constant(cell));
-          if ((q - l.centre).squaredNorm() < l.radius * l.radius) lists[size_t(x + n * (y + n * z))].push_back(id);
+          if ((q - l.centre).squaredNorm() < l.radius * l.radius) fn(size_t(x + n * (y + n * z)));
         }
-  }
+  };
+  // Two passes, count then fill (CSR), so that leaf ids stay in ascending order per cell.
   s.grid.offsets.assign(cells + 1, 0);
-  s.grid.leaf_ids.clear();
-  for (size_t c = 0; c < cells; ++c) {
-    s.grid.leaf_ids.insert(s.grid.leaf_ids.end(), lists[c].begin(), lists[c].end());
-    s.grid.offsets[c + 1] = uint32_t(s.grid.leaf_ids.size());
-  }
+  for (const Leaf& l : s.leaves) for_cells(l, [&](size_t c) { ++s.grid.offsets[c + 1]; });
+  for (size_t c = 0; c < cells; ++c) s.grid.offsets[c + 1] += s.grid.offsets[c];
+  s.grid.leaf_ids.assign(s.grid.offsets[cells], 0);
+  std::vector<uint32_t> fill(s.grid.offsets.begin(), s.grid.offsets.end() - 1);
+  for (uint32_t id = 0; id < s.leaves.size(); ++id)
+    for_cells(s.leaves[id], [&](size_t c) { s.grid.leaf_ids[fill[c]++] = id; });
 }
 
 }  // namespace mpumesh::mpu

@@ -17,7 +17,7 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the .mpu reader and writer assume a little-endian host");
 
 constexpr char kMagic[8] = {'\x89', 'M', 'P', 'U', '\r', '\n', '\x1a', '\n'};
-constexpr size_t kHeaderBytes = 72;
+constexpr size_t kHeaderBytes = 120;
 constexpr size_t kLeafBytes = 32 * 8 + 8;
 
 class Writer {
@@ -83,6 +83,8 @@ std::string serialize_mpu(const MpuSurface& s) {
   for (uint32_t d : g.dims) w.put<uint32_t>(d);
   w.put<uint32_t>(uint32_t(g.leaf_ids.size()));
   w.put<uint32_t>(0);
+  for (int d = 0; d < 3; ++d) w.put<double>(s.data_min[d]);
+  for (int d = 0; d < 3; ++d) w.put<double>(s.data_max[d]);
   for (const Leaf& l : s.leaves) {
     for (int d = 0; d < 3; ++d) w.put<double>(l.centre[d]);
     w.put<double>(l.radius);
@@ -122,6 +124,11 @@ MpuSurface parse_mpu(const std::string& b, const std::string& name) {
   }
   const uint32_t entries = r.get<uint32_t>();
   r.get<uint32_t>();
+  for (int d = 0; d < 3; ++d) s.data_min[d] = r.finite();
+  for (int d = 0; d < 3; ++d) s.data_max[d] = r.finite();
+  for (int d = 0; d < 3; ++d)
+    if (!(s.data_min[d] <= s.data_max[d]) || s.data_min[d] < s.box_min[d] || s.data_max[d] > s.box_min[d] + s.box_size)
+      r.fail("the data bounding box is not inside the cube");
   const uint64_t cells = uint64_t(s.grid.dims[0]) * s.grid.dims[1] * s.grid.dims[2];
   // The size is checked before anything is allocated: a corrupt count cannot ask for
   // gigabytes.

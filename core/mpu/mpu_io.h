@@ -12,7 +12,9 @@
 //   52      12    u32 grid dims nx, ny, nz: the lookup grid over the cube
 //   64      4     u32 grid entry count E (length of leaf_ids)
 //   68      4     u32 reserved = 0
-//   72      L*264 leaves, each: f64 centre[3], f64 radius, f64 frame[9] (rows u, v, w),
+//   72      48    f64 data_min x, y, z, data_max x, y, z (mm): the fitted points' bounding
+//                 box, inside the cube
+//   120     L*264 leaves, each: f64 centre[3], f64 radius, f64 frame[9] (rows u, v, w),
 //                 f64 coeffs[19] (the local basis of core/mpu/local_poly.h), u8 kind
 //                 (0 orthopoly height field, 1 quadric height field, 2 general quadric),
 //                 u8 degree, u8 depth, u8 reserved, u32 point count

@@ -38,6 +38,8 @@ struct LookupGrid {
 struct MpuSurface {
   Eigen::Vector3d box_min = Eigen::Vector3d::Zero();  // the bounding cube
   double box_size = 1;
+  // The fitted points' bounding box, inside the cube: where the surface lies.
+  Eigen::Vector3d data_min = Eigen::Vector3d::Zero(), data_max = Eigen::Vector3d::Zero();
   std::vector<Leaf> leaves;
   LookupGrid grid;
   double cell_size() const { return box_size / double(grid.dims[0]); }

@@ -56,7 +56,7 @@ TEST(MpuFile, RefusesTruncatedCorruptAndForeignFiles) {
   const std::string good = mpu::serialize_mpu(sphere_surface());
   EXPECT_NE(refusal("").find("empty"), std::string::npos);
   // Every truncation point in the header, and some in the body.
-  for (size_t n : {size_t(1), size_t(7), size_t(8), size_t(12), size_t(40), size_t(71), size_t(72), size_t(500),
+  for (size_t n : {size_t(1), size_t(7), size_t(8), size_t(12), size_t(40), size_t(71), size_t(72), size_t(119), size_t(120), size_t(500),
                    good.size() / 2, good.size() - 1}) {
     const std::string m = refusal(good.substr(0, n));
     EXPECT_NE(m.find("bad.mpu"), std::string::npos) << n;
@@ -64,7 +64,7 @@ TEST(MpuFile, RefusesTruncatedCorruptAndForeignFiles) {
   }
   EXPECT_NE(refusal(good + "x").find("past the end"), std::string::npos);
   // One flipped bit anywhere after the header is caught by the CRC.
-  for (size_t at : {size_t(80), good.size() / 3, good.size() - 10}) {
+  for (size_t at : {size_t(130), good.size() / 3, good.size() - 10}) {
     std::string bad = good;
     bad[at] = char(bad[at] ^ 0x10);
     EXPECT_NE(refusal(bad).find("CRC"), std::string::npos) << at;
