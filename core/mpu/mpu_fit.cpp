@@ -265,6 +265,15 @@ void build_lookup_grid(MpuSurface& s, uint32_t n) {
   std::vector<uint32_t> fill(s.grid.offsets.begin(), s.grid.offsets.end() - 1);
   for (uint32_t id = 0; id < s.leaves.size(); ++id)
     for_cells(s.leaves[id], [&](size_t c) { s.grid.leaf_ids[fill[c]++] = id; });
+  index_spheres(s);
+}
+
+void index_spheres(MpuSurface& s) {
+  s.grid.spheres.resize(s.leaves.size());
+  for (size_t i = 0; i < s.leaves.size(); ++i) {
+    const Leaf& l = s.leaves[i];
+    s.grid.spheres[i] = Eigen::Vector4d(l.centre.x(), l.centre.y(), l.centre.z(), l.radius * l.radius);
+  }
 }
 
 }  // namespace mpumesh::mpu

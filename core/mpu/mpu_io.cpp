@@ -170,6 +170,7 @@ MpuSurface parse_mpu(const std::string& b, const std::string& name) {
     id = r.get<uint32_t>();
     if (id >= leaves) r.fail("lookup grid names leaf " + std::to_string(id) + " of " + std::to_string(leaves));
   }
+  index_spheres(s);
   return s;
 }
 

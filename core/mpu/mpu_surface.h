@@ -33,6 +33,9 @@ struct LookupGrid {
   std::array<uint32_t, 3> dims{1, 1, 1};
   std::vector<uint32_t> offsets;  // cells + 1, CSR into leaf_ids
   std::vector<uint32_t> leaf_ids;
+  // Per leaf: centre and R², a compact copy (32 B per leaf instead of ~280) for the
+  // support test that most candidates fail; not stored in the file, rebuilt on reading.
+  std::vector<Eigen::Vector4d> spheres;
 };
 
 struct MpuSurface {
@@ -45,7 +48,10 @@ struct MpuSurface {
   double cell_size() const { return box_size / double(grid.dims[0]); }
 };
 
-// Builds the lookup grid: `cells_per_side` cells along each axis of the bounding cube.
+// Builds the lookup grid: `cells_per_side` cells along each axis of the bounding cube
+// (and the spheres).
 void build_lookup_grid(MpuSurface& s, uint32_t cells_per_side);
+// Fills grid.spheres from the leaves.
+void index_spheres(MpuSurface& s);
 
 }  // namespace mpumesh::mpu

@@ -3,14 +3,20 @@
 // Gaussian curvature, and no zero crossing far from the true surface; and the paper's
 // orthogonal-polynomial fit against Ohtake's quadric on the slice-stacked ellipsoid.
 #include <gtest/gtest.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <random>
 
+#include "common/neighbour_grid.h"
+#include "compute/cpu_backend.h"
+#include "io/volume_io.h"
 #include "mpu/mpu_eval_ref.h"
 #include "mpu/mpu_fit.h"
+#include "points/slice_points.h"
+#include "segment/segmentation.h"
 #include "test_support.h"
 
 namespace mpumesh {
@@ -143,6 +149,73 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"torus_dense", {test::AnalyticShape::kTorus, 25, 8, 8}, true},
                       Case{"torus_slices", {test::AnalyticShape::kTorus, 25, 8, 8}, false}),
     [](const auto& info) { return std::string(info.param.name); });
+
+
+// The sample CT (bone at 226 HU, 0.96 x 0.96 x 1.5 mm): the orthopoly fit is no worse than
+// Ohtake's quadric in |f| at the input points (the surface's distance to them) and in
+// spurious sheets, zero crossings of f on a grid farther than two slice spacings from
+// every input point.
+TEST(MpuSampleCt, OrthopolyNoWorseThanQuadric) {
+  MPUMESH_DATA_OR_SKIP(path, test::sample_ct_path(), "invesalius-examples");
+  const Volume vol = read_volume(path);
+  CpuBackend cpu;
+  seg::SegmentOptions so;
+  so.method = seg::Method::kThreshold;
+  so.threshold = {226};
+  const PointCloud cloud = pts::extract_points(seg::segment(vol, so, cpu), vol).cloud;
+  const double far = 2 * vol.spacing.z();
+  const NeighbourGrid near(cloud.positions, far);
+  struct Figures {
+    double f_p50, f_p95;
+    int64_t crossings = 0, sheets = 0;
+  };
+  std::map<mpu::LocalFit, Figures> by_kind;
+  for (auto kind : {mpu::LocalFit::kOrthopoly, mpu::LocalFit::kQuadric}) {
+    mpu::FitOptions opt;
+    opt.local_fit = kind;
+    mpu::FitStats st;
+    const mpu::MpuSurface s = mpu::fit_mpu(cloud, opt, &st);
+    Figures fig;
+    std::vector<double> f;
+    for (const auto& r : cpu.mpu_eval(s, cloud.positions)) f.push_back(std::abs(r.f));
+    fig.f_p50 = percentile(f, 0.5);
+    fig.f_p95 = percentile(f, 0.95);
+    // Grid of 1.5 mm over the points' box.
+    const double h = 1.5;
+    const Eigen::Vector3d lo = s.data_min - Eigen::Vector3d::Constant(2 * h);
+    std::array<int, 3> n;
+    for (int d = 0; d < 3; ++d) n[size_t(d)] = int(std::ceil((s.data_max[d] - s.data_min[d]) / h)) + 5;
+    auto at = [&](int i, int j, int k) { return Eigen::Vector3d(lo + h * Eigen::Vector3d(double(i), double(j), double(k))); };
+    std::vector<double> g(size_t(n[0]) * size_t(n[1]) * size_t(n[2]));
+    auto idx = [&](int i, int j, int k) { return size_t(i) + size_t(n[0]) * (size_t(j) + size_t(n[1]) * size_t(k)); };
+    tbb::parallel_for(0, n[2], [&](int k) {
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) g[idx(i, j, k)] = mpu::evaluate_f(s, at(i, j, k));
+    });
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i + 1 < n[0]; ++i) {
+          const double f0 = g[idx(i, j, k)], f1 = g[idx(i + 1, j, k)];
+          if ((f0 < 0) == (f1 < 0)) continue;
+          ++fig.crossings;
+          const Eigen::Vector3d p = at(i, j, k) + Eigen::Vector3d(h * f0 / (f0 - f1), 0, 0);
+          bool close = false;
+          near.for_each_within(p, [&](uint32_t) { close = true; });
+          fig.sheets += !close;
+        }
+    std::printf("[ sample CT %s ] %zu points, %lld leaves, %.2f s; |f| at the points p50 %.4f p95 %.4f mm; %lld "
+                "crossings on x edges, %lld farther than %.1f mm from every point\n",
+                mpu::local_fit_name(kind), cloud.size(), (long long)st.leaves, st.seconds, fig.f_p50, fig.f_p95,
+                (long long)fig.crossings, (long long)fig.sheets, far);
+    by_kind[kind] = fig;
+  }
+  const Figures& o = by_kind[mpu::LocalFit::kOrthopoly];
+  const Figures& q = by_kind[mpu::LocalFit::kQuadric];
+  EXPECT_GT(o.crossings, 10000);
+  EXPECT_LE(o.f_p50, q.f_p50);
+  EXPECT_LE(o.f_p95, q.f_p95);
+  EXPECT_LE(o.sheets, q.sheets);
+}
 
 }  // namespace
 }  // namespace mpumesh

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "io/mesh_io.h"
@@ -42,7 +43,8 @@ std::string phantom(const std::string& dir) {
 }
 
 TEST(Cli, HelpForEverySubcommand) {
-  for (const char* sub : {"", "run", "segment", "points", "mc", "quality", "convert", "devices"}) {
+  for (const char* sub : {"", "run", "segment", "points", "fit", "eval", "polygonize", "mc", "quality", "convert",
+                          "devices"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
@@ -177,6 +179,81 @@ TEST(Cli, SegmentationErrorsNameTheProblem) {
   expect_fail("points " + ball + " -o " + dir + "/p.obj", "p.obj");
 }
 
+// fit -> eval -> polygonize on a sphere of radius 10 mm sampled as a slice stack.
+TEST(Cli, FitEvalAndPolygonizeASphere) {
+  const std::string dir = test::temp_dir("mpu");
+  const test::AnalyticShape sphere{test::AnalyticShape::kSphere, 10, 10, 10};
+  write_point_cloud(test::sample_shape(sphere, 0.5, 1.0, false), dir + "/p.ply");
+  const Result f = run("fit " + dir + "/p.ply -o " + dir + "/s.mpu --json");
+  ASSERT_EQ(f.code, 0) << f.out;
+  const auto fj = nlohmann::json::parse(f.out);
+  EXPECT_GT(fj["leaves"].get<int>(), 8);
+  EXPECT_EQ(fj["local_fit"], "orthopoly");
+  {
+    std::ofstream q(dir + "/q.xyz");
+    q << "# x y z\n10 0 0\n0 0 -10\n0 0 0\n0 0 10.5 0 0 1\n0 0 40\n";
+  }
+  const Result e = run("eval " + dir + "/s.mpu " + dir + "/q.xyz --backend cpu -o " + dir + "/e.txt");
+  ASSERT_EQ(e.code, 0) << e.out;
+  std::istringstream in(read_file(dir + "/e.txt"));
+  std::vector<std::array<double, 11>> rows;
+  std::array<double, 11> row;
+  while (in >> row[0]) {
+    for (int k = 1; k < 11; ++k) in >> row[size_t(k)];
+    rows.push_back(row);
+  }
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_NEAR(rows[0][3], 0.0, 0.01);   // on the surface
+  EXPECT_GT(rows[0][4], 0.9);           // gradient along +x
+  EXPECT_NEAR(rows[0][5] / rows[0][4], 0.0, 0.01);
+  EXPECT_NEAR(rows[0][6] / rows[0][4], 0.0, 0.01);
+  EXPECT_NEAR(rows[0][9], 0.01, 5e-4);  // K = 1/r²
+  EXPECT_NEAR(rows[0][10], -0.1, 5e-3); // mean curvature -1/r (outward normal convention)
+  EXPECT_NEAR(rows[1][3], 0.0, 0.01);
+  EXPECT_LT(rows[2][3], -5.0);          // the centre is inside
+  EXPECT_NEAR(rows[3][3], 0.5, 0.1);    // 0.5 mm outside; the extra columns are ignored
+  EXPECT_GT(rows[4][3], 20.0);          // beyond the bounding cube: f = the cube's size
+  // The same through stdout, and on the GPU when there is one.
+  const Result e2 = run("eval " + dir + "/s.mpu " + dir + "/q.xyz --backend cpu");
+  EXPECT_EQ(e2.out, read_file(dir + "/e.txt"));
+  const Result p = run("polygonize " + dir + "/s.mpu -o " + dir + "/m.ply --cell 0.5 --backend cpu --json");
+  ASSERT_EQ(p.code, 0) << p.out;
+  const TriangleMesh m = read_mesh(dir + "/m.ply");
+  EXPECT_EQ(m.triangles.size(), nlohmann::json::parse(p.out)["triangles"].get<size_t>());
+  const Result q = run("quality " + dir + "/m.ply --json");
+  ASSERT_EQ(q.code, 0) << q.out;
+  const auto qj = nlohmann::json::parse(q.out);
+  EXPECT_TRUE(qj["closed"].get<bool>());
+  EXPECT_EQ(qj["genus"], 0);
+  EXPECT_NEAR(qj["volume_mm3"].get<double>(), 4.0 / 3.0 * M_PI * 1000, 0.01 * 4.0 / 3.0 * M_PI * 1000);
+  for (const auto& v : m.vertices) EXPECT_NEAR(v.norm(), 10.0, 0.05);
+}
+
+TEST(Cli, MpuErrorsNameTheFileAndLeaveNothing) {
+  const std::string dir = test::temp_dir("mpu_errors");
+  auto expect_fail = [&](const std::string& args, const std::string& words, const std::string& out) {
+    const Result r = run(args);
+    EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(words), std::string::npos) << "want '" << words << "' in: " << r.out;
+    EXPECT_FALSE(std::filesystem::exists(out)) << args;
+  };
+  {
+    std::ofstream(dir + "/few.xyz") << "0 0 0 0 0 1\n1 0 0 0 0 1\n";
+    std::ofstream(dir + "/bad.mpu") << "not an mpu file at all";
+    std::ofstream(dir + "/q.xyz") << "1 2\n";
+  }
+  expect_fail("fit " + dir + "/few.xyz -o " + dir + "/s.mpu", "fewer than --nmin", dir + "/s.mpu");
+  expect_fail("fit " + dir + "/missing.ply -o " + dir + "/s.mpu", "missing.ply", dir + "/s.mpu");
+  expect_fail("fit " + dir + "/few.xyz -o " + dir + "/s.mpu --alpha 0", "alpha", dir + "/s.mpu");
+  expect_fail("polygonize " + dir + "/bad.mpu -o " + dir + "/m.ply", "bad.mpu: not a valid .mpu file", dir + "/m.ply");
+  expect_fail("eval " + dir + "/bad.mpu " + dir + "/q.xyz -o " + dir + "/e.txt", "bad.mpu", dir + "/e.txt");
+  const test::AnalyticShape sphere{test::AnalyticShape::kSphere, 5, 5, 5};
+  write_point_cloud(test::sample_shape(sphere, 0.5, 1.0, false), dir + "/p.ply");
+  ASSERT_EQ(run("fit " + dir + "/p.ply -o " + dir + "/s.mpu -q").code, 0);
+  expect_fail("eval " + dir + "/s.mpu " + dir + "/q.xyz -o " + dir + "/e.txt", "q.xyz: line 1", dir + "/e.txt");
+  expect_fail("polygonize " + dir + "/s.mpu -o " + dir + "/m.ply --cell 0.0001", "limit 2^30", dir + "/m.ply");
+}
+
 TEST(Cli, GpuBackendAndDevices) {
   MPUMESH_VULKAN_OR_SKIP(gpu);
   const Result d = run("devices --json");
@@ -189,6 +266,21 @@ TEST(Cli, GpuBackendAndDevices) {
   EXPECT_EQ(j["backend"]["kind"], "vulkan");
   EXPECT_TRUE(j["kernel_ms"].contains("mc_classify"));
   EXPECT_TRUE(j["manifold"].get<bool>());
+  // eval on the GPU agrees with the CPU to float precision.
+  const test::AnalyticShape sphere{test::AnalyticShape::kSphere, 6, 6, 6};
+  write_point_cloud(test::sample_shape(sphere, 0.5, 1.0, false), dir + "/p.xyz");
+  ASSERT_EQ(run("fit " + dir + "/p.xyz -o " + dir + "/s.mpu -q").code, 0);
+  const Result c = run("eval " + dir + "/s.mpu " + dir + "/p.xyz --backend cpu");
+  const Result g = run("eval " + dir + "/s.mpu " + dir + "/p.xyz --backend gpu");
+  ASSERT_EQ(g.code, 0) << g.out;
+  std::istringstream ci(c.out), gi(g.out);
+  double a, b;
+  int n = 0;
+  while (ci >> a && gi >> b) {
+    EXPECT_NEAR(a, b, 1e-4) << "value " << n;
+    ++n;
+  }
+  EXPECT_GT(n, 1000);
 }
 
 }  // namespace
