@@ -2,9 +2,10 @@
 // An octree over the points' bounding cube (enlarged by `margin`); a cell of centre c and
 // diagonal d gets the support radius R = alpha d, grown by lambda R until the ball holds
 // nmin points; its fit is a height field when every normal in the ball lies within 90° of
-// the weighted mean normal, else a general quadric with auxiliary points; a cell whose
-// Taubin error exceeds eps is split into 8, down to max_depth, unless its ball had to grow
-// (its children would only grow back to the same points). Cells are fitted in
+// the weighted mean normal and the cell is near the points, else a general quadric with
+// auxiliary points; a cell whose Taubin error exceeds eps is split into 8, down to
+// max_depth, unless its ball had to grow (its children would only grow back to the same
+// points) or is held at min_radius (its children's balls would be as large). Cells are fitted in
 // parallel, one octree level at a time, and kept in a fixed order: the result does not
 // depend on the thread count.
 #pragma once
