@@ -28,14 +28,23 @@ void finish(PointCloud& c, const std::string& name) {
   if (c.size() == 0) throw InputError(name + ": no points");
 }
 
-PointCloud parse_xyz(const std::string& b, const std::string& name) {
-  PointCloud c;
+// Calls fn(line number, line) for each line with data ('#' comments and blank lines
+// dropped).
+template <class F>
+void for_each_data_line(const std::string& b, F&& fn) {
   std::istringstream in(b);
   std::string line;
   for (int64_t no = 1; std::getline(in, line); ++no) {
     const auto hash = line.find('#');
     if (hash != std::string::npos) line.resize(hash);
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    fn(no, line);
+  }
+}
+
+PointCloud parse_xyz(const std::string& b, const std::string& name) {
+  PointCloud c;
+  for_each_data_line(b, [&](int64_t no, const std::string& line) {
     std::istringstream ls(line);
     double v[6];
     for (double& x : v)
@@ -44,7 +53,7 @@ PointCloud parse_xyz(const std::string& b, const std::string& name) {
     if (ls >> rest) throw InputError(name + ": line " + std::to_string(no) + " has more than six numbers");
     c.positions.emplace_back(v[0], v[1], v[2]);
     c.normals.emplace_back(v[3], v[4], v[5]);
-  }
+  });
   return c;
 }
 
@@ -67,18 +76,13 @@ PointCloud parse_point_cloud(const std::string& bytes, const std::string& ext, c
 
 std::vector<Eigen::Vector3d> parse_positions(const std::string& b, const std::string& name) {
   std::vector<Eigen::Vector3d> out;
-  std::istringstream in(b);
-  std::string line;
-  for (int64_t no = 1; std::getline(in, line); ++no) {
-    const auto hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+  for_each_data_line(b, [&](int64_t no, const std::string& line) {
     std::istringstream ls(line);
     Eigen::Vector3d p;
     if (!(ls >> p.x() >> p.y() >> p.z()) || !p.allFinite())
       throw InputError(name + ": line " + std::to_string(no) + " does not start with three finite numbers x y z");
     out.push_back(p);
-  }
+  });
   if (out.empty()) throw InputError(name + ": no points");
   return out;
 }

@@ -9,19 +9,30 @@
 
 namespace mpumesh::mpu {
 
-Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
-  Sample out;
+namespace {
+
+// The lookup-grid cell holding x, or false outside the bounding cube.
+bool grid_cell(const MpuSurface& s, const Eigen::Vector3d& x, size_t& cell) {
   const Eigen::Vector3d rel = (x - s.box_min) / s.cell_size();
   const auto& dims = s.grid.dims;
   int64_t c[3];
   for (int d = 0; d < 3; ++d) {
     c[d] = int64_t(std::floor(rel[d]));
-    if (c[d] < 0 || c[d] >= int64_t(dims[size_t(d)])) {
-      out.f = s.box_size;
-      return out;
-    }
+    if (c[d] < 0 || c[d] >= int64_t(dims[size_t(d)])) return false;
   }
-  const size_t cell = size_t(c[0] + dims[0] * (c[1] + int64_t(dims[1]) * c[2]));
+  cell = size_t(c[0] + dims[0] * (c[1] + int64_t(dims[1]) * c[2]));
+  return true;
+}
+
+}  // namespace
+
+Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
+  Sample out;
+  size_t cell;
+  if (!grid_cell(s, x, cell)) {
+    out.f = s.box_size;
+    return out;
+  }
   // Sums about the first leaf's value f0 (f = f0 + N / D), as the shader takes them, where
   // float32 would lose the small f to the large Σ w Q. Symmetric 3x3 matrices are kept as
   // their 6 entries xx xy xz yy yz zz, and the loop is written out in scalars: it is the
@@ -104,14 +115,8 @@ Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
 }
 
 double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x) {
-  const Eigen::Vector3d rel = (x - s.box_min) / s.cell_size();
-  const auto& dims = s.grid.dims;
-  int64_t c[3];
-  for (int d = 0; d < 3; ++d) {
-    c[d] = int64_t(std::floor(rel[d]));
-    if (c[d] < 0 || c[d] >= int64_t(dims[size_t(d)])) return s.box_size;
-  }
-  const size_t cell = size_t(c[0] + dims[0] * (c[1] + int64_t(dims[1]) * c[2]));
+  size_t cell;
+  if (!grid_cell(s, x, cell)) return s.box_size;
   double N = 0, D = 0;
   for (uint32_t k = s.grid.offsets[cell]; k < s.grid.offsets[cell + 1]; ++k) {
     const Leaf& l = s.leaves[s.grid.leaf_ids[k]];
