@@ -122,7 +122,7 @@ TEST_P(MpuShapes, FitsTheTrueSurface) {
     // K within 5% over 95% of the surface for dense samples and the sliced sphere (the
     // torus, whose K changes sign, reaches 6.4% against 0.2 x its largest |K|). Slice
     // stacks of the ellipsoid and torus reach 11% and 15% (measured): only ten and eight
-    // slices cross their 10 and 8 mm thickness, so K across the slices rests on contours
+    // slices cross their 20 and 16 mm thickness, so K across the slices rests on contours
     // 2 mm apart; bounded here at 15% and 20%.
     double k_bound = 0.05;
     if (c.shape.kind == test::AnalyticShape::kTorus) k_bound = c.dense ? 0.07 : 0.20;
