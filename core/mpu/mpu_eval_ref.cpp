@@ -119,10 +119,13 @@ double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x) {
   if (!grid_cell(s, x, cell)) return s.box_size;
   double N = 0, D = 0;
   for (uint32_t k = s.grid.offsets[cell]; k < s.grid.offsets[cell + 1]; ++k) {
-    const Leaf& l = s.leaves[s.grid.leaf_ids[k]];
+    const uint32_t id = s.grid.leaf_ids[k];
+    const Eigen::Vector4d& sp = s.grid.spheres[id];
+    const double r2 = (x - sp.head<3>()).squaredNorm();
+    if (r2 >= sp[3]) continue;  // the compact support test first, as in evaluate
+    const Leaf& l = s.leaves[id];
     const Eigen::Vector3d d = x - l.centre;
-    const double r = d.norm();
-    if (r >= l.radius) continue;
+    const double r = std::sqrt(r2);
     double w, dw, d2w;
     bspline_weight(r, l.radius, w, dw, d2w);
     const Eigen::Vector3d y = l.frame * d / l.radius;

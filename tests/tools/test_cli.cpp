@@ -42,6 +42,20 @@ std::string phantom(const std::string& dir) {
   return p;
 }
 
+// A run that must fail: exit 1, one "mpumesh: error:" line containing `words`, `out` not
+// created, and no temporary (.partial) file left beside it.
+void expect_failure(const std::string& args, const std::string& words, const std::string& out) {
+  const Result r = run(args);
+  EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
+  EXPECT_NE(r.out.find("mpumesh: error:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(words), std::string::npos) << "want '" << words << "' in: " << r.out;
+  EXPECT_FALSE(std::filesystem::exists(out)) << args;
+  const auto dir = std::filesystem::path(out).parent_path();
+  if (std::filesystem::is_directory(dir))
+    for (auto& e : std::filesystem::directory_iterator(dir))
+      EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
+}
+
 TEST(Cli, HelpForEverySubcommand) {
   for (const char* sub : {"", "run", "segment", "points", "fit", "eval", "polygonize", "mc", "quality", "convert",
                           "devices"}) {
@@ -86,13 +100,7 @@ TEST(Cli, ErrorsNameTheFileAndLeaveNothing) {
   const std::string dir = test::temp_dir("errors");
   const std::string ball = phantom(dir);
   auto expect_fail = [&](const std::string& args, const std::string& words) {
-    const Result r = run(args);
-    EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
-    EXPECT_NE(r.out.find("mpumesh: error:"), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find(words), std::string::npos) << "want '" << words << "' in: " << r.out;
-    EXPECT_FALSE(std::filesystem::exists(dir + "/out.ply")) << args;
-    for (auto& e : std::filesystem::directory_iterator(dir))
-      EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
+    expect_failure(args, words, dir + "/out.ply");
   };
   expect_fail("mc " + dir + "/missing.nii -o " + dir + "/out.ply", "missing.nii: file or directory not found");
   expect_fail("mc " + ball + " --threshold 5000 -o " + dir + "/out.ply --backend cpu", "selects no voxel");
@@ -166,9 +174,7 @@ TEST(Cli, SegmentationErrorsNameTheProblem) {
   const std::string dir = test::temp_dir("segment_errors");
   const std::string ball = phantom(dir);
   auto expect_fail = [&](const std::string& args, const std::string& words) {
-    const Result r = run(args);
-    EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
-    EXPECT_NE(r.out.find(words), std::string::npos) << "want '" << words << "' in: " << r.out;
+    expect_failure(args, words, dir + "/no-output");
     for (auto& e : std::filesystem::directory_iterator(dir))
       EXPECT_EQ(e.path().filename().string(), "ball.mha") << "left behind: " << e.path();
   };
@@ -231,27 +237,21 @@ TEST(Cli, FitEvalAndPolygonizeASphere) {
 
 TEST(Cli, MpuErrorsNameTheFileAndLeaveNothing) {
   const std::string dir = test::temp_dir("mpu_errors");
-  auto expect_fail = [&](const std::string& args, const std::string& words, const std::string& out) {
-    const Result r = run(args);
-    EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
-    EXPECT_NE(r.out.find(words), std::string::npos) << "want '" << words << "' in: " << r.out;
-    EXPECT_FALSE(std::filesystem::exists(out)) << args;
-  };
   {
     std::ofstream(dir + "/few.xyz") << "0 0 0 0 0 1\n1 0 0 0 0 1\n";
     std::ofstream(dir + "/bad.mpu") << "not an mpu file at all";
     std::ofstream(dir + "/q.xyz") << "1 2\n";
   }
-  expect_fail("fit " + dir + "/few.xyz -o " + dir + "/s.mpu", "fewer than --nmin", dir + "/s.mpu");
-  expect_fail("fit " + dir + "/missing.ply -o " + dir + "/s.mpu", "missing.ply", dir + "/s.mpu");
-  expect_fail("fit " + dir + "/few.xyz -o " + dir + "/s.mpu --alpha 0", "alpha", dir + "/s.mpu");
-  expect_fail("polygonize " + dir + "/bad.mpu -o " + dir + "/m.ply", "bad.mpu: not a valid .mpu file", dir + "/m.ply");
-  expect_fail("eval " + dir + "/bad.mpu " + dir + "/q.xyz -o " + dir + "/e.txt", "bad.mpu", dir + "/e.txt");
+  expect_failure("fit " + dir + "/few.xyz -o " + dir + "/s.mpu", "fewer than --nmin", dir + "/s.mpu");
+  expect_failure("fit " + dir + "/missing.ply -o " + dir + "/s.mpu", "missing.ply", dir + "/s.mpu");
+  expect_failure("fit " + dir + "/few.xyz -o " + dir + "/s.mpu --alpha 0", "alpha", dir + "/s.mpu");
+  expect_failure("polygonize " + dir + "/bad.mpu -o " + dir + "/m.ply", "bad.mpu: not a valid .mpu file", dir + "/m.ply");
+  expect_failure("eval " + dir + "/bad.mpu " + dir + "/q.xyz -o " + dir + "/e.txt", "bad.mpu", dir + "/e.txt");
   const test::AnalyticShape sphere{test::AnalyticShape::kSphere, 5, 5, 5};
   write_point_cloud(test::sample_shape(sphere, 0.5, 1.0, false), dir + "/p.ply");
   ASSERT_EQ(run("fit " + dir + "/p.ply -o " + dir + "/s.mpu -q").code, 0);
-  expect_fail("eval " + dir + "/s.mpu " + dir + "/q.xyz -o " + dir + "/e.txt", "q.xyz: line 1", dir + "/e.txt");
-  expect_fail("polygonize " + dir + "/s.mpu -o " + dir + "/m.ply --cell 0.0001", "limit 2^30", dir + "/m.ply");
+  expect_failure("eval " + dir + "/s.mpu " + dir + "/q.xyz -o " + dir + "/e.txt", "q.xyz: line 1", dir + "/e.txt");
+  expect_failure("polygonize " + dir + "/s.mpu -o " + dir + "/m.ply --cell 0.0001", "limit 2^30", dir + "/m.ply");
 }
 
 TEST(Cli, GpuBackendAndDevices) {
