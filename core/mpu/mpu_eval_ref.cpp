@@ -24,9 +24,10 @@ bool grid_cell(const MpuSurface& s, const Eigen::Vector3d& x, size_t& cell) {
   return true;
 }
 
-}  // namespace
-
-Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
+// f, ∇f and (when kHessian) the Hessian; without it the Hessian terms are left out at
+// compile time and out.H stays zero.
+template <bool kHessian>
+Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
   Sample out;
   size_t cell;
   if (!grid_cell(s, x, cell)) {
@@ -67,15 +68,18 @@ Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
     local_poly(l.coeffs.data(), yu, yv, yw, q, gq, hq);
     // World units: Q = R q, ∇Q = Mᵀ ∇q, HQ = Mᵀ Hq M / R.
     const double Q = R * q;
-    double gQ[3], A[3][3], HQ[6];
+    double gQ[3], HQ[6] = {0, 0, 0, 0, 0, 0};
     for (int i = 0; i < 3; ++i) gQ[i] = M(0, i) * gq[0] + M(1, i) * gq[1] + M(2, i) * gq[2];
-    const double Hl[3][3] = {{hq[0], hq[1], hq[2]}, {hq[1], hq[3], hq[4]}, {hq[2], hq[4], hq[5]}};
-    for (int a = 0; a < 3; ++a)
-      for (int j = 0; j < 3; ++j) A[a][j] = Hl[a][0] * M(0, j) + Hl[a][1] * M(1, j) + Hl[a][2] * M(2, j);
     static constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
-    for (int e = 0; e < 6; ++e) {
-      const int i = kI[e], j = kJ[e];
-      HQ[e] = (M(0, i) * A[0][j] + M(1, i) * A[1][j] + M(2, i) * A[2][j]) * invR;
+    if constexpr (kHessian) {
+      double A[3][3];
+      const double Hl[3][3] = {{hq[0], hq[1], hq[2]}, {hq[1], hq[3], hq[4]}, {hq[2], hq[4], hq[5]}};
+      for (int a = 0; a < 3; ++a)
+        for (int j = 0; j < 3; ++j) A[a][j] = Hl[a][0] * M(0, j) + Hl[a][1] * M(1, j) + Hl[a][2] * M(2, j);
+      for (int e = 0; e < 6; ++e) {
+        const int i = kI[e], j = kJ[e];
+        HQ[e] = (M(0, i) * A[0][j] + M(1, i) * A[1][j] + M(2, i) * A[2][j]) * invR;
+      }
     }
     if (out.leaves == 0) f0 = Q;
     const double Qs = Q - f0;
@@ -88,12 +92,13 @@ Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
       gN[i] += Qs * gw[i] + w * gQ[i];
       gD[i] += gw[i];
     }
-    for (int e = 0; e < 6; ++e) {
-      const int i = kI[e], j = kJ[e];
-      const double Hw = (i == j ? k1 : 0.0) + k2 * d[i] * d[j];
-      HN[e] += Qs * Hw + gw[i] * gQ[j] + gQ[i] * gw[j] + w * HQ[e];
-      HD[e] += Hw;
-    }
+    if constexpr (kHessian)
+      for (int e = 0; e < 6; ++e) {
+        const int i = kI[e], j = kJ[e];
+        const double Hw = (i == j ? k1 : 0.0) + k2 * d[i] * d[j];
+        HN[e] += Qs * Hw + gw[i] * gQ[j] + gQ[i] * gw[j] + w * HQ[e];
+        HD[e] += Hw;
+      }
     ++out.leaves;
   }
   if (!(D > 0)) {
@@ -105,14 +110,21 @@ Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) {
   out.f = f0 + fs;
   for (int i = 0; i < 3; ++i) out.g[i] = (gN[i] - fs * gD[i]) / D;
   static constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
-  for (int e = 0; e < 6; ++e) {
-    const int i = kI[e], j = kJ[e];
-    const double h = (HN[e] - fs * HD[e] - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
-    out.H(i, j) = h;
-    out.H(j, i) = h;
-  }
+  if constexpr (kHessian)
+    for (int e = 0; e < 6; ++e) {
+      const int i = kI[e], j = kJ[e];
+      const double h = (HN[e] - fs * HD[e] - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
+      out.H(i, j) = h;
+      out.H(j, i) = h;
+    }
   return out;
 }
+
+}  // namespace
+
+Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<true>(s, x); }
+
+Sample evaluate_fg(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<false>(s, x); }
 
 double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x) {
   size_t cell;

@@ -25,6 +25,8 @@ struct Curvature {
 };
 
 Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x);
+// f and ∇f only (H left zero): what projection onto f = 0 needs.
+Sample evaluate_fg(const MpuSurface& s, const Eigen::Vector3d& x);
 // f alone (no derivatives), for polygonization.
 double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x);
 Curvature curvature(const Eigen::Vector3d& g, const Eigen::Matrix3d& H);

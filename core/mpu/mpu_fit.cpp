@@ -1,6 +1,5 @@
 #include "mpu/mpu_fit.h"
 
-#include <nanoflann.hpp>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -9,45 +8,17 @@
 #include <limits>
 
 #include "common/error.h"
+#include "common/kd_tree.h"
 #include "mpu/local_fit.h"
 
 namespace mpumesh::mpu {
 namespace {
-
-struct CloudAdaptor {
-  const std::vector<Eigen::Vector3d>* pts;
-  size_t kdtree_get_point_count() const { return pts->size(); }
-  double kdtree_get_pt(size_t i, size_t d) const { return (*pts)[i][int(d)]; }
-  template <class B>
-  bool kdtree_get_bbox(B&) const { return false; }
-};
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, CloudAdaptor>, CloudAdaptor, 3,
-                                                   uint32_t>;
 
 struct Cell {
   Eigen::Vector3d centre;
   double size;
   int depth;
 };
-
-// The median over up to 20,000 evenly picked points of the distance to their k-th nearest
-// neighbour (k = 1: the sampling spacing; k = 12: about the largest gap, e.g. between
-// slices, since a slice's own contour holds only a few points that near).
-double median_spacing(const PointCloud& cloud, const KdTree& tree, size_t k = 1) {
-  const size_t step = std::max<size_t>(1, cloud.size() / 20000);
-  std::vector<double> d;
-  for (size_t i = 0; i < cloud.size(); i += step) {
-    uint32_t idx[16];
-    double d2[16];
-    nanoflann::KNNResultSet<double, uint32_t> rs(k + 1);
-    rs.init(idx, d2);
-    tree.findNeighbors(rs, cloud.positions[i].data(), nanoflann::SearchParams());
-    if (rs.size() == k + 1 && d2[k] > 0) d.push_back(std::sqrt(d2[k]));
-  }
-  if (d.empty()) return 1.0;
-  std::nth_element(d.begin(), d.begin() + ptrdiff_t(d.size() / 2), d.end());
-  return d[d.size() / 2];
-}
 
 }  // namespace
 
@@ -73,11 +44,11 @@ MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* sta
   if (cloud.size() < size_t(opt.nmin))
     throw InputError("fit: " + std::to_string(cloud.size()) + " points, fewer than --nmin " +
                      std::to_string(opt.nmin));
-  CloudAdaptor adaptor{&cloud.positions};
+  PointsAdaptor adaptor{&cloud.positions};
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
-  const double eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud, tree);
-  const double min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * median_spacing(cloud, tree, 12);
+  const double eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
+  const double min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * median_spacing(cloud.positions, tree, 12);
 
   Eigen::Vector3d lo = cloud.positions[0], hi = lo;
   for (const auto& p : cloud.positions) {

@@ -1,0 +1,43 @@
+// A nanoflann k-d tree over a vector of points, and the median k-th-neighbour distance
+// (the sampling spacing for k = 1; about the largest gap, e.g. between CT slices, for
+// k = 12, since a slice's own contour holds only a few points that near).
+#pragma once
+
+#include <Eigen/Dense>
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace mpumesh {
+
+struct PointsAdaptor {
+  const std::vector<Eigen::Vector3d>* pts;
+  size_t kdtree_get_point_count() const { return pts->size(); }
+  double kdtree_get_pt(size_t i, size_t d) const { return (*pts)[i][int(d)]; }
+  template <class B>
+  bool kdtree_get_bbox(B&) const { return false; }
+};
+using KdTree =
+    nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor, 3, uint32_t>;
+
+// The median over up to 20,000 evenly picked points of the distance to their k-th
+// nearest neighbour (k <= 15); 1 when there are too few points.
+inline double median_spacing(const std::vector<Eigen::Vector3d>& pts, const KdTree& tree, size_t k = 1) {
+  const size_t step = std::max<size_t>(1, pts.size() / 20000);
+  std::vector<double> d;
+  for (size_t i = 0; i < pts.size(); i += step) {
+    uint32_t idx[16];
+    double d2[16];
+    nanoflann::KNNResultSet<double, uint32_t> rs(k + 1);
+    rs.init(idx, d2);
+    tree.findNeighbors(rs, pts[i].data(), nanoflann::SearchParams());
+    if (rs.size() == k + 1 && d2[k] > 0) d.push_back(std::sqrt(d2[k]));
+  }
+  if (d.empty()) return 1.0;
+  std::nth_element(d.begin(), d.begin() + ptrdiff_t(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
+
+}  // namespace mpumesh

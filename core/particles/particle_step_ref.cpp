@@ -1,0 +1,176 @@
+#include "particles/particle_step_ref.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.h"
+
+namespace mpumesh::particles {
+
+void ParticleState::resize(size_t n) {
+  x.resize(n, Eigen::Vector3d::Zero());
+  sigma.resize(n, 1.0);
+  target.resize(n, 1.0);
+  normal.resize(n, Eigen::Vector3d::UnitZ());
+  distance.resize(n, 0.0);
+  curv.resize(n);
+  energy.resize(n, 0.0);
+  speed.resize(n, 0.0);
+}
+
+ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double cell) {
+  MPUMESH_ASSERT(cell > 0 && std::isfinite(cell), "particle grid cell must be positive");
+  ParticleGrid g;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+  for (const auto& p : x) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  if (x.empty()) lo = hi = Eigen::Vector3d::Zero();
+  g.origin = lo;
+  // At most 1024 cells a side: a wider cell only costs extra distance tests.
+  cell = std::max(cell, (hi - lo).maxCoeff() / 1023.0);
+  g.cell = cell;
+  uint64_t cells = 1;
+  for (int d = 0; d < 3; ++d) {
+    g.dims[size_t(d)] = uint32_t(std::floor((hi[d] - lo[d]) / cell) + 1);
+    cells *= g.dims[size_t(d)];
+  }
+  g.start.assign(cells + 1, 0);
+  g.cell_of.resize(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    uint32_t c[3];
+    for (int d = 0; d < 3; ++d)
+      c[d] = uint32_t(std::clamp((x[i][d] - lo[d]) / cell, 0.0, double(g.dims[size_t(d)] - 1)));
+    g.cell_of[i] = c[0] + g.dims[0] * (c[1] + g.dims[1] * c[2]);
+    ++g.start[g.cell_of[i] + 1];
+  }
+  for (uint64_t c = 0; c < cells; ++c) g.start[c + 1] += g.start[c];
+  g.order.resize(x.size());
+  std::vector<uint32_t> fill(g.start.begin(), g.start.end() - 1);
+  for (size_t i = 0; i < x.size(); ++i) g.order[fill[g.cell_of[i]]++] = uint32_t(i);
+  return g;
+}
+
+double interaction_range(const ParticleState& st, const StepParams& p) {
+  double smax = 0;
+  for (double s : st.sigma) smax = std::max(smax, s);
+  return p.cutoff * smax;
+}
+
+void repulsion_step(ParticleState& st, const ParticleGrid& grid, const StepParams& p,
+                    std::vector<Eigen::Vector3d>& x_new, std::vector<double>& sigma_new) {
+  const size_t n = st.size();
+  x_new.resize(n);
+  sigma_new.resize(n);
+  st.energy.resize(n);
+  st.speed.resize(n);
+  const double c2 = p.cutoff * p.cutoff;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t o = r.begin(); o != r.end(); ++o) {
+      const uint32_t i = grid.order[o];  // in cell order, for the cache
+      const Eigen::Vector3d xi = st.x[i];
+      const double si = st.sigma[i], inv_si2 = 1.0 / (si * si);
+      const uint32_t cell = grid.cell_of[i];
+      const int64_t cx = cell % grid.dims[0], cy = (cell / grid.dims[0]) % grid.dims[1],
+                    cz = cell / (uint64_t(grid.dims[0]) * grid.dims[1]);
+      double E = 0, dE = 0, Dx = 0, Dy = 0, Dz = 0, stiff = 0;
+      for (int64_t z = std::max<int64_t>(cz - 1, 0); z <= std::min<int64_t>(cz + 1, grid.dims[2] - 1); ++z)
+        for (int64_t y = std::max<int64_t>(cy - 1, 0); y <= std::min<int64_t>(cy + 1, grid.dims[1] - 1); ++y) {
+          const int64_t row = int64_t(grid.dims[0]) * (y + int64_t(grid.dims[1]) * z);
+          const int64_t x0 = std::max<int64_t>(cx - 1, 0), x1 = std::min<int64_t>(cx + 1, grid.dims[0] - 1);
+          for (uint32_t k = grid.start[size_t(row + x0)]; k < grid.start[size_t(row + x1 + 1)]; ++k) {
+            const uint32_t j = grid.order[k];
+            const double sj = st.sigma[j], inv_sj2 = 1.0 / (sj * sj);
+            const double rx = xi.x() - st.x[j].x(), ry = xi.y() - st.x[j].y(), rz = xi.z() - st.x[j].z();
+            const double r2 = rx * rx + ry * ry + rz * rz;
+            // Each term cut at its own particle's cutoff; j == i gives r = 0 and adds
+            // 2μ to E, which is taken off below (branchless here).
+            const double eij = r2 < c2 * si * si ? p.mu * std::exp(-0.5 * r2 * inv_si2) : 0.0;
+            const double eji = r2 < c2 * sj * sj ? p.mu * std::exp(-0.5 * r2 * inv_sj2) : 0.0;
+            E += eij + eji;
+            dE += r2 * inv_si2 / si * eij;
+            const double a = eij * inv_si2 + eji * inv_sj2;
+            Dx += rx * a;
+            Dy += ry * a;
+            Dz += rz * a;
+            // -∂(r a)/∂r along r: the pair's radial stiffness (positive beyond r = σ).
+            stiff += std::max(r2 * (eij * inv_si2 * inv_si2 + eji * inv_sj2 * inv_sj2) - a, 0.0);
+          }
+        }
+      E -= 2 * p.mu;
+      const Eigen::Vector3d D = si * si * Eigen::Vector3d(Dx, Dy, Dz);
+      const Eigen::Vector3d& nrm = st.normal[i];
+      const double dist = std::isfinite(st.distance[i]) ? st.distance[i] : 0.0;
+      const Eigen::Vector3d v = D - (nrm.dot(D) + p.phi * dist) * nrm;
+      // Linearly implicit Euler steps: the explicit step Δt ṗ with the paper's Δt = 0.3
+      // overshoots (Δt times the stiffness of six neighbours at equilibrium is about 3)
+      // and the particles jitter instead of settling; dividing by 1 + Δt k, k the
+      // diagonal of -∂ṗ/∂x averaged over the tangent plane, damps it and leaves Δt
+      // as it is where the stiffness is small.
+      const double k = 0.5 * si * si * stiff;
+      Eigen::Vector3d step = p.dt / (1 + p.dt * k) * v;
+      const double len = step.norm(), cap = p.max_move * si;
+      if (len > cap) step *= cap / len;
+      x_new[i] = xi + step;
+      // The same for σ: σ̇ = -ρ (E - Ê) / (∂E/∂σ + β), with ∂σ̇/∂σ ≈ -ρ ∂E/∂σ / (∂E/∂σ + β).
+      const double dsigma = -p.dt * p.rho * (E - p.desired_energy) / (dE + p.beta + p.dt * p.rho * dE);
+      sigma_new[i] = std::clamp(si + dsigma, si / p.sigma_change, si * p.sigma_change);
+      st.energy[i] = E;
+      st.speed[i] = v.norm();
+    }
+  });
+}
+
+bool newton_project(const mpu::MpuSurface& s, Eigen::Vector3d& x, int steps, double max_move) {
+  for (int k = 0; k < steps; ++k) {
+    const mpu::Sample e = mpu::evaluate_fg(s, x);
+    const double g2 = e.g.squaredNorm();
+    if (!(g2 > 0) || e.leaves == 0) return false;
+    Eigen::Vector3d step = -e.f / g2 * e.g;
+    const double len = step.norm();
+    if (len > max_move) step *= max_move / len;
+    x += step;
+  }
+  return true;
+}
+
+void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p) {
+  const size_t n = st.size();
+  st.normal.resize(n);
+  st.distance.resize(n);
+  st.curv.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      Eigen::Vector3d x = st.x[i];
+      const bool ok = newton_project(s, x, p.newton_steps, st.sigma[i]);
+      const mpu::Sample e = mpu::evaluate(s, x);
+      const double g = e.g.norm();
+      st.x[i] = x;
+      if (!ok || !(g > 0) || e.leaves == 0) {
+        st.distance[i] = NAN;  // lost: no surface here; the population step removes it
+        st.curv[i] = {};
+        continue;
+      }
+      st.normal[i] = e.g / g;
+      st.distance[i] = e.f / g;
+      st.curv[i] = mpu::curvature(e.g, e.H);
+    }
+  });
+}
+
+void particle_iterations(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p, int iterations) {
+  std::vector<Eigen::Vector3d> x_new;
+  std::vector<double> sigma_new;
+  for (int it = 0; it < iterations; ++it) {
+    const ParticleGrid grid = build_particle_grid(st.x, interaction_range(st, p));
+    repulsion_step(st, grid, p, x_new, sigma_new);
+    st.x.swap(x_new);
+    st.sigma.swap(sigma_new);
+    project_step(s, st, p);
+  }
+}
+
+}  // namespace mpumesh::particles

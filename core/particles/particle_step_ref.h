@@ -1,0 +1,93 @@
+// One iteration of the particle system (DESIGN.md stage 6, Witkin & Heckbert 1994 with
+// the paper's curvature weight) in double precision: the CPU reference of
+// shaders/particle_grid_*.comp, particle_repulsion.comp and particle_project.comp, and
+// the native CPU path. The population (fission, death) is decided between iterations by
+// particle_population.h, on the CPU for both backends.
+//
+// Per iteration, from positions x_i on f = 0 with repulsion radii σ_i:
+//   1. neighbour grid: cells of cutoff·max σ, particles counting-sorted by cell;
+//   2. repulsion (eq. 11, 12): E_ij = μ exp(-r²/2σ_i²), E_ji = μ exp(-r²/2σ_j²), each term
+//      cut at r = cutoff·σ of its own particle;
+//        E_i  = Σ_j (E_ij + E_ji),           ∂E_i/∂σ_i = Σ_j r²/σ_i³ E_ij,
+//        D_i  = σ_i² Σ_j r_ij (E_ij/σ_i² + E_ji/σ_j²),   r_ij = x_i - x_j;
+//      the velocity keeps D's tangent part and adds Witkin–Heckbert's feedback toward
+//      f = 0: ṗ_i = D_i - (n_i·D_i + φ d_i) n_i (d_i = f/|∇f|, the signed distance);
+//      x_i += Δt ṗ_i, the move capped at max_move·σ_i;
+//      σ̇_i = -ρ (E_i - Ê) / (∂E_i/∂σ_i + β), σ_i += Δt σ̇_i, the change capped at the
+//      factor sigma_change either way;
+//   3. projection: newton_steps Newton steps x -= f ∇f / |∇f|², then f, ∇f, H and the
+//      curvature at the new position (Kindlmann), for the next iteration and the weights.
+// The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
+// particle's target radius instead (particle_population.h), which is the reading that
+// makes high curvature denser (see DESIGN.md): scaling E_i and Ê alike would change the
+// speed only.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <vector>
+
+#include "mpu/mpu_eval_ref.h"
+#include "mpu/mpu_surface.h"
+
+namespace mpumesh::particles {
+
+struct StepParams {
+  double dt = 0.3;             // Δt (paper)
+  double mu = 6;               // μ (paper)
+  double desired_energy = 4.8; // Ê = 0.8 μ (Witkin–Heckbert)
+  double rho = 15, beta = 10;  // σ update (Witkin–Heckbert)
+  double phi = 15;             // surface feedback (Witkin–Heckbert)
+  double gamma = 4;            // equilibrium when |ṗ_i| < γ σ_i (paper)
+  double cutoff = 3;           // neighbour cutoff, in σ
+  double max_move = 0.5;       // largest move per iteration, in σ_i
+  double sigma_change = 1.25;  // largest factor σ_i changes by per iteration
+  int newton_steps = 2;
+};
+
+// The particles, structure of arrays. x, sigma are the state; normal, distance and curv
+// are what the last projection measured at x; energy and speed what the last repulsion
+// measured (before the move).
+struct ParticleState {
+  std::vector<Eigen::Vector3d> x;
+  std::vector<double> sigma;
+  std::vector<double> target;  // σ̂_i, set between iterations (particle_population.h)
+  std::vector<Eigen::Vector3d> normal;  // ∇f / |∇f|
+  std::vector<double> distance;         // f / |∇f|, mm; NaN where ∇f vanished (lost)
+  std::vector<mpu::Curvature> curv;
+  std::vector<double> energy, speed;    // E_i and |ṗ_i|
+  size_t size() const { return x.size(); }
+  void resize(size_t n);
+};
+
+// Particles sorted by cell of a uniform grid (counting sort): the CPU twin of
+// particle_grid_*.comp. cell >= the interaction range, so neighbours lie in the 27
+// cells around a particle's own.
+struct ParticleGrid {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double cell = 1;
+  std::array<uint32_t, 3> dims{1, 1, 1};
+  std::vector<uint32_t> start;  // cells + 1
+  std::vector<uint32_t> order;  // particle indices by cell
+  std::vector<uint32_t> cell_of;
+};
+ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double cell);
+
+// The interaction range of the current state: cutoff · max σ.
+double interaction_range(const ParticleState& st, const StepParams& p);
+
+// Step 2 for every particle: writes x_new, sigma_new and st.energy, st.speed.
+void repulsion_step(ParticleState& st, const ParticleGrid& grid, const StepParams& p,
+                    std::vector<Eigen::Vector3d>& x_new, std::vector<double>& sigma_new);
+
+// Step 3: moves each x onto f = 0 and measures normal, distance and curvature there.
+void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p);
+
+// Pulls one point onto f = 0 by up to `steps` Newton steps (each move capped at
+// `max_move` mm); returns false when ∇f vanishes on the way.
+bool newton_project(const mpu::MpuSurface& s, Eigen::Vector3d& x, int steps, double max_move);
+
+// Steps 1-3, `iterations` times.
+void particle_iterations(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p, int iterations);
+
+}  // namespace mpumesh::particles

@@ -1,0 +1,25 @@
+// How the particles are spaced, for tests, the report and the benchmark: each particle's
+// local spacing (mean distance to its 6 nearest neighbours, which is the spacing of a
+// hexagonal sample), and how it follows the Gaussian curvature.
+#pragma once
+
+#include <Eigen/Dense>
+#include <vector>
+
+namespace mpumesh::particles {
+
+std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x);
+
+struct SpacingStats {
+  double mean = 0, cv = 0;       // of the local spacing
+  double high_k_median = 0;      // median spacing over the 10% highest |K|
+  double low_k_median = 0;       // over the 10% lowest
+  double ratio = 0;              // high_k_median / low_k_median
+  double rank_correlation = 0;   // Spearman, spacing vs |K|
+};
+SpacingStats spacing_stats(const std::vector<double>& spacing, const std::vector<double>& abs_gauss);
+
+// Spearman's rank correlation of a and b (average ranks for ties).
+double rank_correlation(const std::vector<double>& a, const std::vector<double>& b);
+
+}  // namespace mpumesh::particles

@@ -1,0 +1,114 @@
+// The particle system on fitted analytic shapes: particles on the surface, spacing
+// uniform on a sphere and following curvature on an ellipsoid, thin plates respected,
+// repeatable runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mesh/quality.h"
+#include "mesh/restricted_delaunay.h"
+#include "mpu/mpu_fit.h"
+#include "particles/particle_system.h"
+#include "particles/spacing_stats.h"
+#include "test_support.h"
+
+namespace mpumesh {
+namespace {
+
+using particles::ParticleState;
+
+particles::Stepper cpu_stepper(const mpu::MpuSurface& s) {
+  return [&s](const particles::StepParams& p, ParticleState& st, int n) { particles::particle_iterations(s, st, p, n); };
+}
+
+struct ShapeRun {
+  mpu::MpuSurface surface;
+  PointCloud cloud;
+  ParticleState st;
+  particles::SampleStats stats;
+  particles::SpacingStats spacing;
+  double max_true_distance = 0;
+};
+
+ShapeRun run_shape(const test::AnalyticShape& shape, int64_t count, bool dense = true) {
+  ShapeRun r;
+  r.cloud = test::sample_shape(shape, 0.5, dense ? 0.5 : 2.0, dense);
+  r.surface = mpu::fit_mpu(r.cloud, {});
+  particles::SampleOptions o;
+  o.particles = count;
+  r.st = particles::sample_surface(r.surface, r.cloud.positions, o, cpu_stepper(r.surface), &r.stats);
+  std::vector<double> absk;
+  for (size_t i = 0; i < r.st.size(); ++i) {
+    double K;
+    r.max_true_distance = std::max(r.max_true_distance, shape.distance(r.st.x[i], nullptr, &K));
+    absk.push_back(std::abs(K));
+  }
+  r.spacing = particles::spacing_stats(particles::local_spacing(r.st.x), absk);
+  return r;
+}
+
+void print(const char* name, const ShapeRun& r) {
+  std::printf("%s: %lld particles (seeds %lld, pool %lld, births %lld, deaths %lld), %d iterations, converged %d, "
+              "h %.3f mm, area %.0f mm2, thickness-bound %lld; spacing mean %.3f cv %.3f, high/low-K %.3f, rank %.3f; "
+              "max distance %.2e mm; %.2f s seed, %.2f s iterate, %.2f s population\n",
+              name, (long long)r.stats.particles, (long long)r.stats.seeds, (long long)r.stats.pool,
+              (long long)r.stats.births, (long long)r.stats.deaths, r.stats.iterations, int(r.stats.converged),
+              r.stats.spacing, r.stats.area, (long long)r.stats.thickness_bound, r.spacing.mean, r.spacing.cv,
+              r.spacing.ratio, r.spacing.rank_correlation, r.max_true_distance, r.stats.seconds_seed,
+              r.stats.seconds_iterate, r.stats.seconds_population);
+  for (const auto& h : r.stats.history)
+    std::printf("  it %d: %lld (+%lld -%lld) E %.2f move %.4f\n", h.iteration, (long long)h.count, (long long)h.births,
+                (long long)h.deaths, h.mean_energy, h.mean_move);
+}
+
+TEST(Particles, SphereIsUniform) {
+  test::AnalyticShape sphere;
+  const ShapeRun r = run_shape(sphere, 3000);
+  print("sphere", r);
+  EXPECT_LT(r.spacing.cv, 0.15);
+  EXPECT_LT(r.max_true_distance, 0.01);
+  EXPECT_NEAR(double(r.stats.particles), 3000, 300);
+}
+
+TEST(Particles, EllipsoidSpacingFollowsCurvature) {
+  test::AnalyticShape e{test::AnalyticShape::kEllipsoid, 30, 20, 10};
+  const ShapeRun r = run_shape(e, 4000);
+  print("ellipsoid", r);
+  EXPECT_LT(r.spacing.ratio, 0.6);
+  EXPECT_LT(r.spacing.rank_correlation, -0.5);
+}
+
+// The restricted Delaunay mesh of the particles: closed, oriented, the right genus, on
+// the true surface, and well-shaped triangles.
+void check_mesh(const char* name, const test::AnalyticShape& shape, int64_t count, int64_t genus) {
+  const ShapeRun r = run_shape(shape, count);
+  RestrictedDelaunayStats rs;
+  const TriangleMesh mesh = restricted_delaunay(r.surface, r.st.x, &rs);
+  const Quality q = measure_quality(mesh);
+  double dmax = 0;
+  for (const auto& v : mesh.vertices) dmax = std::max(dmax, shape.distance(v));
+  std::printf("%s: %zu particles -> %lld triangles, %lld repair points, %lld unused, %lld flipped, %.2f s; "
+              "closed %d oriented %d genus %lld components %lld; self-intersections %lld; min angle %.1f, "
+              "p01 %.1f, below 30: %.2f%%, below 20: %.2f%%; radius ratio mean %.3f; dihedral mean %.2f; "
+              "vertex distance max %.4f mm\n",
+              name, r.st.size(), (long long)q.topo.triangles, (long long)rs.repair_points, (long long)rs.unused_points,
+              (long long)rs.flipped_components, rs.seconds, int(q.topo.closed), int(q.topo.oriented),
+              (long long)q.topo.genus, (long long)q.topo.components, (long long)q.self_intersections, q.angle_min,
+              q.angle_p01, q.pct_angle_below[2], q.pct_angle_below[1], q.radius_ratio_mean, q.dihedral_mean, dmax);
+  EXPECT_TRUE(q.topo.closed);
+  EXPECT_TRUE(q.topo.oriented);
+  EXPECT_EQ(q.topo.components, 1);
+  EXPECT_EQ(q.topo.genus, genus);
+  EXPECT_EQ(q.self_intersections, 0);
+  EXPECT_GT(q.volume_mm3, 0);  // outward
+  EXPECT_LT(dmax, 0.01);
+}
+
+TEST(RestrictedDelaunay, SphereEllipsoidTorus) {
+  check_mesh("sphere", test::AnalyticShape{}, 3000, 0);
+  check_mesh("ellipsoid", test::AnalyticShape{test::AnalyticShape::kEllipsoid, 30, 20, 10}, 4000, 0);
+  check_mesh("torus", test::AnalyticShape{test::AnalyticShape::kTorus, 25, 8, 8}, 5000, 1);
+}
+
+}  // namespace
+}  // namespace mpumesh
