@@ -1,10 +1,13 @@
 #include "vulkan_backend.h"
 
+#include <cstring>
+
 #include "common/error.h"
 #include "compute/cpu_backend.h"
 #include "kernels/chan_vese_vk.h"
 #include "kernels/mc_vk.h"
 #include "kernels/mpu_eval_vk.h"
+#include "kernels/particles_vk.h"
 #include "vk/vk_check.h"
 
 namespace mpumesh::vk {
@@ -31,6 +34,42 @@ std::vector<mpu::EvalRow> VulkanBackend::mpu_eval(const mpu::MpuSurface& s, cons
   kernel_ms_.clear();
   const MpuDeviceSurface dev(ctx_, s);
   return mpu_->run(dev, points, kernel_ms_);
+}
+
+namespace {
+
+// Which surface is resident: a hash of every leaf's centre, radius and constant term (an
+// address alone could be a new surface in an old one's place).
+uint64_t fingerprint(const mpu::MpuSurface& s) {
+  uint64_t h = 1469598103934665603ull ^ s.leaves.size();
+  auto mix = [&h](double v) {
+    uint64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    h = (h ^ b) * 1099511628211ull;
+  };
+  for (const auto& l : s.leaves) {
+    mix(l.centre.x());
+    mix(l.centre.y());
+    mix(l.centre.z());
+    mix(l.radius);
+    mix(l.coeffs[0]);
+  }
+  return h;
+}
+
+}  // namespace
+
+void VulkanBackend::particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,
+                                        const particles::StepParams& p, int iterations) {
+  if (!particles_) particles_ = std::make_unique<ParticleKernel>(ctx_);
+  // The surface stays on the device between the batches of one run (kernel times add up).
+  const uint64_t id = fingerprint(s);
+  if (!resident_ || resident_id_ != id) {
+    resident_ = std::make_unique<MpuDeviceSurface>(ctx_, s);
+    resident_id_ = id;
+    kernel_ms_.clear();
+  }
+  particles_->run(*resident_, st, p, iterations, kernel_ms_);
 }
 
 BackendChoice make_backend(const std::string& name, int device_index) {

@@ -15,6 +15,8 @@ namespace mpumesh::vk {
 class McKernel;
 class ChanVeseKernel;
 class MpuEvalKernel;
+class ParticleKernel;
+struct MpuDeviceSurface;
 
 class VulkanBackend : public ComputeBackend {
  public:
@@ -26,6 +28,9 @@ class VulkanBackend : public ComputeBackend {
   seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) override;
   // Uploads the surface on each call (host/kernels/mpu_eval_vk.h keeps one resident).
   std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) override;
+  // Keeps the last surface on the device, for the batches of one particle run.
+  void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p,
+                           int iterations) override;
   Context& context() { return ctx_; }
 
  private:
@@ -33,6 +38,9 @@ class VulkanBackend : public ComputeBackend {
   std::unique_ptr<McKernel> mc_;
   std::unique_ptr<ChanVeseKernel> cv_;
   std::unique_ptr<MpuEvalKernel> mpu_;
+  std::unique_ptr<ParticleKernel> particles_;
+  std::unique_ptr<MpuDeviceSurface> resident_;
+  uint64_t resident_id_ = 0;
 };
 
 struct BackendChoice {

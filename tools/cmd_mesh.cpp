@@ -1,6 +1,4 @@
-// mpumesh mc, quality and run: the marching-cubes baseline and the quality report. `run`
-// grows with the pipeline; until the MPU and particle stages exist it runs the
-// marching-cubes baseline and reports its quality.
+// mpumesh mc and quality: the marching-cubes baseline and the quality report.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -23,16 +21,14 @@ namespace mpumesh::tools {
 namespace {
 
 struct MeshJob {
-  std::string input, output, threshold = "226", report;
+  std::string input, output, threshold = "226";
   BackendOptions backend;
-  bool self_intersections = true;
 };
 
 // Reads, meshes and writes; returns the summary (and fills `mesh`).
 nlohmann::json run_mc(const MeshJob& job, const CommonOptions& common, Progress& progress, TriangleMesh& mesh) {
   check_writable(job.output);
   mesh_format_from_path(job.output);
-  if (!job.report.empty()) check_writable(job.report);
   const mc::ThresholdRange range = mc::parse_threshold(job.threshold);
   progress.begin("read volume");
   Volume vol = read_volume(job.input);
@@ -117,39 +113,6 @@ void add_quality_command(CLI::App& app, CommonOptions& common, std::function<voi
       } else if (!common.quiet) {
         std::cout << o->mesh << "\n" << quality_to_text(q);
       }
-    };
-  });
-}
-
-void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
-  auto job = std::make_shared<MeshJob>();
-  auto* cmd = app.add_subcommand(
-      "run", "CT/MR volume to mesh with a quality report (for now: the marching-cubes baseline; the MPU and "
-             "particle stages are not built yet)");
-  cmd->add_option("input", job->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
-  cmd->add_option("-o,--output", job->output, "mesh: .ply, .stl, .obj or .off")->required();
-  cmd->add_option("--threshold", job->threshold, "inside range LO or LO:HI (HU for CT)")->capture_default_str();
-  cmd->add_option("--report", job->report, "write the JSON report here");
-  cmd->add_flag("!--no-self-intersections", job->self_intersections, "skip the self-intersection test");
-  add_backend_options(cmd, job->backend);
-  add_common(cmd, common);
-  cmd->callback([&common, &action, job] {
-    action = [&common, job] {
-      Progress progress(common.quiet || common.json);
-      TriangleMesh mesh;
-      nlohmann::json j = run_mc(*job, common, progress, mesh);
-      progress.begin("quality");
-      QualityOptions opt;
-      opt.self_intersections = job->self_intersections;
-      const Quality q = measure_quality(mesh, opt);
-      progress.end();
-      j["pipeline"] = "marching-cubes baseline";
-      j["quality"] = quality_to_json(q);
-      j["stage_seconds"] = stage_json(progress);
-      j["version"] = MPUMESH_VERSION;
-      if (!job->report.empty()) write_json_file(j, job->report);
-      if (common.json) std::cout << j.dump(2) << '\n';
-      else if (!common.quiet) std::cout << job->output << "\n" << quality_to_text(q);
     };
   });
 }

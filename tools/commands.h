@@ -23,6 +23,8 @@ void add_points_command(CLI::App& app, CommonOptions& common, std::function<void
 void add_fit_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_eval_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_polygonize_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_sample_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_triangulate_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 
 }  // namespace mpumesh::tools

@@ -35,6 +35,8 @@ int main(int argc, char** argv) {
   mpumesh::tools::add_fit_command(app, common, action);
   mpumesh::tools::add_eval_command(app, common, action);
   mpumesh::tools::add_polygonize_command(app, common, action);
+  mpumesh::tools::add_sample_command(app, common, action);
+  mpumesh::tools::add_triangulate_command(app, common, action);
   mpumesh::tools::add_mc_command(app, common, action);
   mpumesh::tools::add_quality_command(app, common, action);
   mpumesh::tools::add_convert_command(app, common, action);

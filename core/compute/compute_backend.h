@@ -8,6 +8,7 @@
 
 #include "mc/marching_cubes_ref.h"
 #include "mpu/mpu_eval_ref.h"
+#include "particles/particle_step_ref.h"
 #include "segment/chan_vese_ref.h"
 
 namespace mpumesh {
@@ -29,6 +30,10 @@ class ComputeBackend {
   // f, ∇f and curvature of an MPU surface at each point; see core/mpu/mpu_eval_ref.h.
   virtual std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) = 0;
 
+  // `iterations` steps of the particle system on the surface; see
+  // core/particles/particle_step_ref.h.
+  virtual void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,
+                                   const particles::StepParams& p, int iterations) = 0;
   // Time per kernel (ms) of the last call, measured on the device; may be empty.
   const std::map<std::string, double>& kernel_ms() const { return kernel_ms_; }
 

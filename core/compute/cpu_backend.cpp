@@ -40,4 +40,12 @@ std::vector<mpu::EvalRow> CpuBackend::mpu_eval(const mpu::MpuSurface& s, const s
   return rows;
 }
 
+void CpuBackend::particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,
+                                     const particles::StepParams& p, int iterations) {
+  // Accumulated over calls, so a whole run's time shows.
+  auto t0 = std::chrono::steady_clock::now();
+  particles::particle_iterations(s, st, p, iterations);
+  kernel_ms_["particles"] += ms_since(t0);
+}
+
 }  // namespace mpumesh

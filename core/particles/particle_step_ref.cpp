@@ -117,7 +117,7 @@ void repulsion_step(ParticleState& st, const ParticleGrid& grid, const StepParam
       x_new[i] = xi + step;
       // The same for σ: σ̇ = -ρ (E - Ê) / (∂E/∂σ + β), with ∂σ̇/∂σ ≈ -ρ ∂E/∂σ / (∂E/∂σ + β).
       const double dsigma = -p.dt * p.rho * (E - p.desired_energy) / (dE + p.beta + p.dt * p.rho * dE);
-      sigma_new[i] = std::clamp(si + dsigma, si / p.sigma_change, si * p.sigma_change);
+      sigma_new[i] = std::min(std::clamp(si + dsigma, si / p.sigma_change, si * p.sigma_change), p.sigma_cap);
       st.energy[i] = E;
       st.speed[i] = v.norm();
     }

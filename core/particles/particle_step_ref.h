@@ -14,7 +14,8 @@
 //      f = 0: ṗ_i = D_i - (n_i·D_i + φ d_i) n_i (d_i = f/|∇f|, the signed distance);
 //      x_i += Δt ṗ_i, the move capped at max_move·σ_i;
 //      σ̇_i = -ρ (E_i - Ê) / (∂E_i/∂σ_i + β), σ_i += Δt σ̇_i, the change capped at the
-//      factor sigma_change either way;
+//      factor sigma_change either way and σ_i at sigma_cap (both steps linearly implicit,
+//      see repulsion_step);
 //   3. projection: newton_steps Newton steps x -= f ∇f / |∇f|², then f, ∇f, H and the
 //      curvature at the new position (Kindlmann), for the next iteration and the weights.
 // The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
@@ -42,6 +43,9 @@ struct StepParams {
   double cutoff = 3;           // neighbour cutoff, in σ
   double max_move = 0.5;       // largest move per iteration, in σ_i
   double sigma_change = 1.25;  // largest factor σ_i changes by per iteration
+  // Largest σ during a batch of iterations, set by the driver (particle_system.h): it
+  // bounds the interaction range, so the GPU's neighbour grid can be sized once a batch.
+  double sigma_cap = 1e30;
   int newton_steps = 2;
 };
 

@@ -48,7 +48,7 @@ std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const 
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
-  const double cell = std::max(rmax, (hi - lo).maxCoeff() / 1000.0);
+  const double cell = std::max(rmax, (hi - lo).maxCoeff() / 128.0);  // at most 129^3 cells
   std::array<int64_t, 3> dims;
   for (int d = 0; d < 3; ++d) dims[size_t(d)] = int64_t((hi[d] - lo[d]) / cell) + 1;
   auto cell_of = [&](const Eigen::Vector3d& p, int d) { return int64_t((p[d] - lo[d]) / cell); };
@@ -161,6 +161,29 @@ void validate(const SampleOptions& o) {
   need(o.population_every >= 1, "population-every", "at least 1");
 }
 
+std::vector<uint8_t> decide_population(const ParticleState& st, const SampleOptions& opt, int iteration,
+                                       int64_t cap) {
+  std::vector<uint8_t> fate(st.size(), kKeep);
+  int64_t room = cap - int64_t(st.size());
+  for (size_t i = 0; i < st.size(); ++i) {
+    if (!std::isfinite(st.distance[i])) {
+      fate[i] = kDie;
+      continue;
+    }
+    const bool eq = st.speed[i] < opt.step.gamma * st.sigma[i];
+    const bool on = std::abs(st.distance[i]) < 0.1 * st.sigma[i];
+    if (!eq || !on) continue;
+    if (st.sigma[i] > opt.split_ratio * st.target[i] && room > 0) {
+      fate[i] = kSplit;
+      --room;
+    } else if (st.sigma[i] < opt.death_ratio * st.target[i]) {
+      const double p = 1 - st.sigma[i] / (opt.death_ratio * st.target[i]);
+      if (hash01(uint32_t(i), uint32_t(iteration), opt.seed, 2) < p) fate[i] = kDie;
+    }
+  }
+  return fate;
+}
+
 double local_thickness(const mpu::MpuSurface& s, const Eigen::Vector3d& x, const Eigen::Vector3d& n, double max_dist) {
   constexpr int kSteps = 6;
   double best = INFINITY;
@@ -195,7 +218,8 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
                              const SampleOptions& opt_in, const Stepper& step, SampleStats* stats_out) {
   validate(opt_in);
   SampleOptions opt = opt_in;
-  if (opt.particles == 0 && opt.spacing == 0) opt.particles = 30000;
+  const bool by_default = opt.particles == 0 && opt.spacing == 0;
+  if (by_default) opt.particles = kDefaultParticles;
   SampleStats st_local;
   SampleStats& stats = stats_out ? *stats_out : st_local;
   stats = SampleStats{};
@@ -274,6 +298,14 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
       (count_for(m, thick) > double(opt.particles) ? a : b) = m;
     }
     h = a == b ? a : 0.5 * (a + b);
+    // The default count never asks for a flat spacing finer than half the input's
+    // sampling gap: that would only add particles on detail the data do not hold.
+    if (by_default && h < 0.5 * gap) {
+      h = 0.5 * gap;
+      std::vector<double> md(pool.size());
+      for (size_t i = 0; i < pool.size(); ++i) md[i] = h * lambda[i] / opt.thickness_factor;
+      thick = thicknesses(s, pool, md);
+    }
   } else {
     std::vector<double> md(pool.size());
     for (size_t i = 0; i < pool.size(); ++i) md[i] = h * lambda[i] / opt.thickness_factor;
@@ -327,12 +359,21 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   const int64_t cap = opt.max_particles > 0 ? opt.max_particles : 8 * int64_t(st.size()) + 10000;
   stats.seconds_seed = seconds_since(t_seed);
 
-  // 4. Iterate; between batches update the weights and targets, split and kill.
+  // 4. Iterate; between batches update the weights and targets, split and kill. Within a
+  //    batch σ may grow to `factor` times its target (a particle past split_ratio splits
+  //    at the next update anyway) or stay at its current value if larger: that bounds
+  //    the interaction range for the batch.
+  auto batch_params = [&](double factor) {
+    StepParams sp = opt.step;
+    sp.sigma_cap = 0;
+    for (size_t i = 0; i < st.size(); ++i) sp.sigma_cap = std::max({sp.sigma_cap, st.sigma[i], factor * st.target[i]});
+    return sp;
+  };
   int it = 0, quiet_updates = 0, update = 0;
   while (it < opt.iterations) {
     const int batch = std::min(opt.population_every, opt.iterations - it);
     const auto t_iter = Clock::now();
-    step(opt.step, st, batch);
+    step(batch_params(2), st, batch);
     it += batch;
     stats.seconds_iterate += seconds_since(t_iter);
     const auto t_pop = Clock::now();
@@ -360,24 +401,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     if (!last) {
       // Decide on the state as it is, then build the next population in index order:
       // survivors (a splitting parent moved to one side), then the second children.
-      std::vector<uint8_t> split(st.size(), 0), die(st.size(), 0);
-      int64_t room = cap - int64_t(st.size());
-      for (size_t i = 0; i < st.size(); ++i) {
-        if (!std::isfinite(st.distance[i])) {
-          die[i] = 1;
-          continue;
-        }
-        const bool eq = st.speed[i] < opt.step.gamma * st.sigma[i];
-        const bool on = std::abs(st.distance[i]) < 0.1 * st.sigma[i];
-        if (!eq || !on) continue;
-        if (st.sigma[i] > opt.split_ratio * st.target[i] && room > 0) {
-          split[i] = 1;
-          --room;
-        } else if (st.sigma[i] < opt.death_ratio * st.target[i]) {
-          const double p = 1 - st.sigma[i] / (opt.death_ratio * st.target[i]);
-          die[i] = hash01(uint32_t(i), uint32_t(it), opt.seed, 2) < p;
-        }
-      }
+      const std::vector<uint8_t> fate = decide_population(st, opt, it, cap);
       ParticleState next;
       std::vector<double> next_thick;
       auto push = [&](size_t i, const Eigen::Vector3d& x, double sigma) {
@@ -393,15 +417,16 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
       };
       std::vector<Eigen::Vector3d> offset(st.size(), Eigen::Vector3d::Zero());
       for (size_t i = 0; i < st.size(); ++i) {
-        if (die[i]) {
+        if (fate[i] == kDie) {
           ++rec.deaths;
           continue;
         }
-        if (split[i]) offset[i] = 0.5 * st.sigma[i] * tangent(st.normal[i], hash01(uint32_t(i), uint32_t(it), opt.seed, 1));
-        push(i, st.x[i] - offset[i], split[i] ? st.sigma[i] / std::sqrt(2.0) : st.sigma[i]);
+        const bool split = fate[i] == kSplit;
+        if (split) offset[i] = 0.5 * st.sigma[i] * tangent(st.normal[i], hash01(uint32_t(i), uint32_t(it), opt.seed, 1));
+        push(i, st.x[i] - offset[i], split ? st.sigma[i] / std::sqrt(2.0) : st.sigma[i]);
       }
       for (size_t i = 0; i < st.size(); ++i)
-        if (split[i]) {
+        if (fate[i] == kSplit) {
           push(i, st.x[i] + offset[i], st.sigma[i] / std::sqrt(2.0));
           ++rec.births;
         }
@@ -429,7 +454,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   // The last batch may have moved split children off the surface: project once more.
   if (stats.history.empty() || stats.history.back().births > 0) {
     const auto t_iter = Clock::now();
-    step(opt.step, st, 1);
+    step(batch_params(0), st, 1);
     stats.seconds_iterate += seconds_since(t_iter);
   }
   stats.iterations = it;

@@ -31,6 +31,10 @@
 
 namespace mpumesh::particles {
 
+// Without --particles or --spacing: this many, unless that would make the flat spacing
+// finer than half the input points' sampling gap.
+constexpr int64_t kDefaultParticles = 30000;
+
 struct SampleOptions {
   int64_t particles = 0;        // target count; 0 = from spacing
   double spacing = 0;           // h, mm; 0 = from particles (or the default)
@@ -80,6 +84,10 @@ std::vector<Eigen::Vector3d> leaf_candidates(const mpu::MpuSurface& s);
 // other sheet along -n (through the inside) or +n (across a gap), searched up to max_dist;
 // infinity when there is none that near.
 double local_thickness(const mpu::MpuSurface& s, const Eigen::Vector3d& x, const Eigen::Vector3d& n, double max_dist);
+
+// The population step's decision for each particle (see above), given the population cap.
+enum Fate : uint8_t { kKeep = 0, kSplit = 1, kDie = 2 };
+std::vector<uint8_t> decide_population(const ParticleState& st, const SampleOptions& opt, int iteration, int64_t cap);
 
 // The hash behind every random choice: uniform in [0, 1).
 double hash01(uint32_t index, uint32_t iteration, uint32_t seed, uint32_t salt);

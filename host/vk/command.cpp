@@ -83,6 +83,8 @@ void Recorder::barrier() {
   vkCmdPipelineBarrier(cmd_, stages, stages, 0, 1, &mb, 0, nullptr, 0, nullptr);
 }
 
+void Recorder::fill(Buffer& dst, uint32_t value) { vkCmdFillBuffer(cmd_, dst.handle(), 0, VK_WHOLE_SIZE, value); }
+
 void Recorder::copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize src_offset,
                     VkDeviceSize dst_offset) {
   VkBufferCopy region{src_offset, dst_offset, bytes};

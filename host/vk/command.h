@@ -39,6 +39,7 @@ class Recorder {
   void dispatch(ComputePipeline& pipe, std::span<const Buffer* const> buffers, const void* push, Grid grid,
                 const std::string& label);
   void barrier();  // compute and transfer writes before compute and transfer reads
+  void fill(Buffer& dst, uint32_t value);  // the whole buffer, as 32-bit words
   void copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize src_offset = 0,
             VkDeviceSize dst_offset = 0);
   void submit_and_wait();

@@ -14,6 +14,7 @@
 #include "io/point_io.h"
 #include "io/read_file.h"
 #include "io/volume_io.h"
+#include "mesh/topology.h"
 #include "test_support.h"
 
 namespace mpumesh {
@@ -87,13 +88,50 @@ TEST(Cli, McWritesAClosedMeshAndJson) {
 
 TEST(Cli, RunWritesMeshAndReport) {
   const std::string dir = test::temp_dir("run");
-  const Result r = run("run " + phantom(dir) + " --threshold 0 -o " + dir + "/m.ply --report " + dir +
+  const Result r = run("run " + phantom(dir) + " --threshold 0 --particles 1500 -o " + dir + "/m.ply --report " + dir +
                        "/report.json --backend auto --quiet");
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(read_file(dir + "/report.json"));
   EXPECT_TRUE(j["quality"]["closed"].get<bool>());
-  EXPECT_TRUE(j["stage_seconds"].contains("marching cubes"));
+  EXPECT_TRUE(j["quality"]["oriented"].get<bool>());
+  for (const char* stage : {"read volume", "segment", "points", "fit", "particles", "triangulate", "write mesh"})
+    EXPECT_TRUE(j["stage_seconds"].contains(stage)) << stage;
+  EXPECT_NEAR(j["particles"]["particles"].get<double>(), 1500, 300);
+  EXPECT_EQ(j["triangles"].get<int64_t>(), read_mesh(dir + "/m.ply").triangles.size());
   EXPECT_FALSE(j["backend"]["device"].get<std::string>().empty());
+}
+
+// Remeshing: a marching-cubes-like mesh of a sphere (an icosphere) in, an adaptive closed
+// mesh on the same sphere out; and the same job through sample + triangulate.
+TEST(Cli, RunRemeshesASurfaceMesh) {
+  const std::string dir = test::temp_dir("remesh");
+  write_mesh(test::icosphere(10.0, 5), dir + "/in.stl");
+  const Result r = run("run " + dir + "/in.stl --spacing 1.0 -o " + dir + "/out.off --report " + dir +
+                       "/r.json --backend cpu --quiet");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const TriangleMesh m = read_mesh(dir + "/out.off");
+  const Topology t = analyze_topology(m);
+  EXPECT_TRUE(t.closed);
+  EXPECT_TRUE(t.oriented);
+  EXPECT_EQ(t.components, 1);
+  EXPECT_EQ(t.genus, 0);
+  double worst = 0;
+  for (const auto& v : m.vertices) worst = std::max(worst, std::abs(v.norm() - 10.0));
+  EXPECT_LT(worst, 0.02);  // the icosphere's own chords deviate up to 0.005 mm
+  const auto j = nlohmann::json::parse(read_file(dir + "/r.json"));
+  EXPECT_EQ(j["input"]["kind"], "mesh");
+  EXPECT_GT(j["quality"]["volume_mm3"].get<double>(), 0);
+
+  ASSERT_EQ(run("points " + phantom(dir) + " --threshold 0 -o " + dir + "/p.ply --quiet").code, 0);
+  ASSERT_EQ(run("fit " + dir + "/p.ply -o " + dir + "/s.mpu --quiet").code, 0);
+  ASSERT_EQ(run("sample " + dir + "/s.mpu --points " + dir + "/p.ply --particles 800 -o " + dir +
+                "/particles.ply --backend cpu --quiet").code, 0);
+  const Result tr = run("triangulate " + dir + "/s.mpu " + dir + "/particles.ply -o " + dir + "/t.ply --json");
+  ASSERT_EQ(tr.code, 0) << tr.out;
+  const auto tj = nlohmann::json::parse(tr.out);
+  EXPECT_TRUE(tj["closed"].get<bool>());
+  EXPECT_TRUE(tj["oriented_manifold"].get<bool>());
+  EXPECT_EQ(tj["particles"].get<int64_t>(), read_point_cloud(dir + "/particles.ply").size());
 }
 
 TEST(Cli, ErrorsNameTheFileAndLeaveNothing) {

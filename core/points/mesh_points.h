@@ -1,0 +1,14 @@
+// Oriented points from a surface mesh, for remeshing (`mpumesh run MESH`): every vertex
+// with its area-weighted normal, and every triangle's centroid with its face normal, so
+// that the MPU fit sees the faces and not only the corners. Degenerate triangles add
+// nothing; vertices of no (non-degenerate) triangle are left out.
+#pragma once
+
+#include "mesh/triangle_mesh.h"
+#include "points/point_cloud.h"
+
+namespace mpumesh::pts {
+
+PointCloud mesh_points(const TriangleMesh& mesh);
+
+}  // namespace mpumesh::pts

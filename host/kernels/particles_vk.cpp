@@ -1,0 +1,138 @@
+#include "kernels/particles_vk.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "particle_grid_count.spv.h"
+#include "particle_grid_scatter.spv.h"
+#include "particle_project.spv.h"
+#include "particle_repulsion.spv.h"
+#include "shared/particle_abi.h"
+#include "vk/command.h"
+
+namespace mpumesh::vk {
+namespace {
+
+std::vector<Binding> bindings(std::initializer_list<uint32_t> ids) {
+  std::vector<Binding> b;
+  for (uint32_t id : ids) b.push_back({id, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER});
+  return b;
+}
+
+}  // namespace
+
+ParticleKernel::ParticleKernel(Context& ctx)
+    : ctx_(ctx),
+      count_(ctx, kSpv_particle_grid_count, bindings({PT_BIND_POS, PT_BIND_CELL, PT_BIND_RANK, PT_BIND_START}),
+             sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
+      scatter_(ctx, kSpv_particle_grid_scatter, bindings({PT_BIND_CELL, PT_BIND_RANK, PT_BIND_START, PT_BIND_ORDER}),
+               sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
+      repulsion_(ctx, kSpv_particle_repulsion,
+                 bindings({PT_BIND_POS, PT_BIND_POS_NEW, PT_BIND_NORMAL, PT_BIND_STATS, PT_BIND_CELL, PT_BIND_START,
+                           PT_BIND_ORDER}),
+                 sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
+      project_(ctx, kSpv_particle_project,
+               bindings({MPU_BIND_LEAVES, MPU_BIND_OFFSETS, MPU_BIND_LEAF_IDS, PT_BIND_POS, PT_BIND_POS_NEW,
+                         PT_BIND_NORMAL, PT_BIND_CURV}),
+               sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
+      scan_(ctx) {}
+
+void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
+                         int iterations, std::map<std::string, double>& kernel_ms) {
+  const size_t n = st.size();
+  if (n == 0 || iterations <= 0) return;
+  // The neighbour grid for the whole batch: cells of the largest interaction range, over
+  // the particles' box grown by the farthest they can move (clamped cells beyond it still
+  // find their neighbours in the 27 around).
+  const double range = p.cutoff * std::min(p.sigma_cap, 1e6);
+  double smax = 0;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  std::vector<abi::vec4> pos(n), nrm(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = st.x[i] - s.origin;
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+    smax = std::max(smax, st.sigma[i]);
+    pos[i] = {float(x.x()), float(x.y()), float(x.z()), float(st.sigma[i])};
+    nrm[i] = {float(st.normal[i].x()), float(st.normal[i].y()), float(st.normal[i].z()), float(st.distance[i])};
+  }
+  const double cell = std::max({range, p.cutoff * smax, (hi - lo).maxCoeff() / 1023.0, 1e-6});
+  const double margin = iterations * p.max_move * std::max(smax, std::min(p.sigma_cap, 1e6));
+  lo.array() -= margin;
+  hi.array() += margin;
+  abi::ParticlePush push{};
+  push.box_min_x = s.push.box_min_x;
+  push.box_min_y = s.push.box_min_y;
+  push.box_min_z = s.push.box_min_z;
+  push.inv_cell = s.push.inv_cell;
+  push.nx = s.push.nx;
+  push.ny = s.push.ny;
+  push.nz = s.push.nz;
+  push.far_value = s.push.far_value;
+  push.count = uint32_t(n);
+  push.grid_x = float(lo.x());
+  push.grid_y = float(lo.y());
+  push.grid_z = float(lo.z());
+  push.grid_inv_cell = float(1.0 / cell);
+  uint32_t dims[3];
+  for (int d = 0; d < 3; ++d) dims[d] = uint32_t(std::min(std::floor((hi[d] - lo[d]) / cell) + 1, 1024.0));
+  push.gx = dims[0];
+  push.gy = dims[1];
+  push.gz = dims[2];
+  push.dt = float(p.dt);
+  push.mu = float(p.mu);
+  push.desired_energy = float(p.desired_energy);
+  push.rho = float(p.rho);
+  push.beta = float(p.beta);
+  push.phi = float(p.phi);
+  push.cutoff = float(p.cutoff);
+  push.max_move = float(p.max_move);
+  push.sigma_change = float(p.sigma_change);
+  push.sigma_cap = float(std::min(p.sigma_cap, 1e30));
+  push.newton_steps = uint32_t(p.newton_steps);
+  const uint32_t cells = dims[0] * dims[1] * dims[2];
+
+  const VkDeviceSize v4 = n * sizeof(abi::vec4), u1 = n * sizeof(uint32_t);
+  Buffer b_pos(ctx_, v4, kStorage), b_new(ctx_, v4, kStorage), b_nrm(ctx_, v4, kStorage), b_curv(ctx_, v4, kStorage),
+      b_stats(ctx_, v4, kStorage), b_cell(ctx_, u1, kStorage), b_rank(ctx_, u1, kStorage),
+      b_start(ctx_, (cells + 1) * sizeof(uint32_t), kStorage), b_order(ctx_, u1, kStorage);
+  b_pos.upload(pos.data(), v4);
+  b_nrm.upload(nrm.data(), v4);
+  const Grid grid = grid_for(ctx_, n, count_.workgroup_size());
+  push.row = grid.row;
+  Recorder rec(ctx_);
+  std::vector<std::unique_ptr<Buffer>> scratch;
+  const Buffer* count_bufs[] = {&b_pos, &b_cell, &b_rank, &b_start};
+  const Buffer* scatter_bufs[] = {&b_cell, &b_rank, &b_start, &b_order};
+  const Buffer* rep_bufs[] = {&b_pos, &b_new, &b_nrm, &b_stats, &b_cell, &b_start, &b_order};
+  const Buffer* proj_bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &b_pos, &b_new, &b_nrm, &b_curv};
+  for (int it = 0; it < iterations; ++it) {
+    rec.fill(b_start, 0);
+    rec.barrier();
+    rec.dispatch(count_, count_bufs, &push, grid, "particle_grid");
+    rec.barrier();
+    scan_.record(rec, b_start, cells + 1, scratch);
+    rec.dispatch(scatter_, scatter_bufs, &push, grid, "particle_grid");
+    rec.barrier();
+    rec.dispatch(repulsion_, rep_bufs, &push, grid, "particle_repulsion");
+    rec.barrier();
+    rec.dispatch(project_, proj_bufs, &push, grid, "particle_project");
+    rec.barrier();
+  }
+  rec.submit_and_wait();
+  for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+  pos = b_pos.read<abi::vec4>(n);
+  nrm = b_nrm.read<abi::vec4>(n);
+  const auto curv = b_curv.read<abi::vec4>(n), stats = b_stats.read<abi::vec4>(n);
+  for (size_t i = 0; i < n; ++i) {
+    st.x[i] = Eigen::Vector3d(pos[i].x, pos[i].y, pos[i].z) + s.origin;
+    st.sigma[i] = pos[i].w;
+    st.normal[i] = Eigen::Vector3d(nrm[i].x, nrm[i].y, nrm[i].z);
+    st.distance[i] = nrm[i].w;
+    st.curv[i] = {curv[i].x, curv[i].y, curv[i].z, curv[i].w};
+    st.energy[i] = stats[i].x;
+    st.speed[i] = stats[i].y;
+  }
+}
+
+}  // namespace mpumesh::vk

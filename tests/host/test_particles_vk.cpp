@@ -1,0 +1,114 @@
+// The particle shaders (particle_grid_*.comp, particle_repulsion.comp,
+// particle_project.comp; float32) against the double-precision CPU reference
+// (core/particles/particle_step_ref.cpp), with validation on: one step from the same
+// state (positions, σ, energies, curvature, and the fission/death decisions made from
+// each), and whole runs on both backends (count within 2%, spacing statistics within 5%).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "compute/cpu_backend.h"
+#include "mpu/mpu_fit.h"
+#include "particles/particle_system.h"
+#include "particles/spacing_stats.h"
+#include "test_support.h"
+
+namespace mpumesh {
+namespace {
+
+using particles::ParticleState;
+
+particles::Stepper stepper_of(const mpu::MpuSurface& s, ComputeBackend& b) {
+  return [&s, &b](const particles::StepParams& p, ParticleState& st, int n) { b.particle_iterations(s, st, p, n); };
+}
+
+struct Fitted {
+  test::AnalyticShape shape;
+  PointCloud cloud;
+  mpu::MpuSurface surface;
+};
+
+Fitted fitted_ellipsoid() {
+  Fitted f;
+  f.shape = test::AnalyticShape{test::AnalyticShape::kEllipsoid, 30, 20, 10};
+  f.cloud = test::sample_shape(f.shape, 0.5, 0.5, true);
+  f.surface = mpu::fit_mpu(f.cloud, {});
+  return f;
+}
+
+TEST(ParticlesVk, OneStepMatchesTheReference) {
+  MPUMESH_VULKAN_OR_SKIP(gpu);
+  const Fitted f = fitted_ellipsoid();
+  CpuBackend cpu;
+  // A state mid-run: seeded and iterated a little on the CPU, with its targets.
+  particles::SampleOptions o;
+  o.particles = 3000;
+  o.iterations = 10;
+  const ParticleState start = particles::sample_surface(f.surface, f.cloud.positions, o, stepper_of(f.surface, cpu));
+  particles::StepParams p = o.step;
+  p.sigma_cap = 0;
+  for (size_t i = 0; i < start.size(); ++i) p.sigma_cap = std::max({p.sigma_cap, start.sigma[i], 2 * start.target[i]});
+  ParticleState a = start, b = start;
+  cpu.particle_iterations(f.surface, a, p, 1);
+  gpu->particle_iterations(f.surface, b, p, 1);
+  test::expect_no_validation_messages(*gpu);
+  double dx = 0, dsigma = 0, denergy = 0, dnormal = 0, dgauss = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    dx = std::max(dx, (a.x[i] - b.x[i]).norm() / a.sigma[i]);
+    dsigma = std::max(dsigma, std::abs(a.sigma[i] - b.sigma[i]) / a.sigma[i]);
+    denergy = std::max(denergy, std::abs(a.energy[i] - b.energy[i]) / o.step.desired_energy);
+    dnormal = std::max(dnormal, (a.normal[i] - b.normal[i]).norm());
+    const double K = std::abs(a.curv[i].gauss);
+    if (K > 1e-4) dgauss = std::max(dgauss, std::abs(a.curv[i].gauss - b.curv[i].gauss) / K);
+  }
+  std::printf("one step, %zu particles: max |dx|/sigma %.2e, |dsigma|/sigma %.2e, |dE|/E^ %.2e, |dn| %.2e, "
+              "|dK|/|K| %.2e\n", a.size(), dx, dsigma, denergy, dnormal, dgauss);
+  EXPECT_LT(dx, 1e-4);
+  EXPECT_LT(dsigma, 1e-4);
+  EXPECT_LT(denergy, 1e-4);
+  EXPECT_LT(dnormal, 1e-4);
+  EXPECT_LT(dgauss, 1e-3);
+  // The population step decides from either state alike.
+  const auto fa = particles::decide_population(a, o, 10, 1 << 20), fb = particles::decide_population(b, o, 10, 1 << 20);
+  int64_t changes = 0, differ = 0;
+  for (size_t i = 0; i < fa.size(); ++i) {
+    changes += fa[i] != particles::kKeep;
+    differ += fa[i] != fb[i];
+  }
+  std::printf("decisions: %lld splits or deaths, %lld differ\n", (long long)changes, (long long)differ);
+  EXPECT_EQ(differ, 0);
+}
+
+TEST(ParticlesVk, WholeRunMatchesTheReference) {
+  MPUMESH_VULKAN_OR_SKIP(gpu);
+  const Fitted f = fitted_ellipsoid();
+  CpuBackend cpu;
+  particles::SampleOptions o;
+  o.particles = 3000;
+  particles::SampleStats sa, sb;
+  const ParticleState a = particles::sample_surface(f.surface, f.cloud.positions, o, stepper_of(f.surface, cpu), &sa);
+  const ParticleState b = particles::sample_surface(f.surface, f.cloud.positions, o, stepper_of(f.surface, *gpu), &sb);
+  test::expect_no_validation_messages(*gpu);
+  auto stats = [&](const ParticleState& st) {
+    std::vector<double> absk;
+    for (const auto& x : st.x) {
+      double K;
+      f.shape.distance(x, nullptr, &K);
+      absk.push_back(std::abs(K));
+    }
+    return particles::spacing_stats(particles::local_spacing(st.x), absk);
+  };
+  const auto ka = stats(a), kb = stats(b);
+  std::printf("cpu: %zu particles, %d iterations, spacing mean %.4f cv %.4f high/low %.4f rank %.4f\n", a.size(),
+              sa.iterations, ka.mean, ka.cv, ka.ratio, ka.rank_correlation);
+  std::printf("gpu: %zu particles, %d iterations, spacing mean %.4f cv %.4f high/low %.4f rank %.4f\n", b.size(),
+              sb.iterations, kb.mean, kb.cv, kb.ratio, kb.rank_correlation);
+  EXPECT_NEAR(double(b.size()) / double(a.size()), 1.0, 0.02);
+  EXPECT_NEAR(kb.mean / ka.mean, 1.0, 0.05);
+  EXPECT_NEAR(kb.cv / ka.cv, 1.0, 0.05);
+  EXPECT_NEAR(kb.ratio / ka.ratio, 1.0, 0.05);
+  EXPECT_NEAR(kb.rank_correlation / ka.rank_correlation, 1.0, 0.05);
+}
+
+}  // namespace
+}  // namespace mpumesh

@@ -1,0 +1,318 @@
+// mpumesh sample: curvature-adaptive particles on an MPU surface.
+// mpumesh triangulate: the restricted Delaunay mesh of particles on a surface.
+// mpumesh run: the whole job, a CT/MR volume (or a surface mesh, to remesh it) to a mesh:
+// segment, points, fit, particles, triangulation, quality report.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "common/error.h"
+#include "io/atomic_file.h"
+#include "io/mesh_io.h"
+#include "io/point_io.h"
+#include "mesh/quality.h"
+#include "mesh/restricted_delaunay.h"
+#include "mpu/mpu_fit.h"
+#include "mpu/mpu_io.h"
+#include "mpu_cli.h"
+#include "particles/particle_system.h"
+#include "particles/spacing_stats.h"
+#include "points/mesh_points.h"
+#include "points/slice_points.h"
+#include "seg_cli.h"
+
+namespace mpumesh::tools {
+namespace {
+
+// `iterations_flag`: "--iterations" for sample, "--particle-iterations" for run (where
+// --iterations is Chan-Vese's).
+void add_sample_options(CLI::App* cmd, particles::SampleOptions& o, const std::string& iterations_flag) {
+  cmd->add_option("--particles", o.particles, "about this many particles (0: from --spacing; both 0: 30000)")
+      ->capture_default_str();
+  cmd->add_option("--spacing", o.spacing, "particle spacing on flat parts (mm); overrides --particles")
+      ->capture_default_str();
+  cmd->add_option("--curvature-scale", o.curvature_scale,
+                  "how strongly curvature drives density: spacing at the highest |K| is exp(-S) of the flat one")
+      ->capture_default_str();
+  cmd->add_option("--thickness-factor", o.thickness_factor,
+                  "spacing at most this times the local thickness of plates and gaps")
+      ->capture_default_str();
+  cmd->add_option(iterations_flag, o.iterations, "particle iteration cap")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "seed of the random choices (splits, deaths, seeding order)")->capture_default_str();
+}
+
+nlohmann::json sample_json(const particles::SampleOptions& o, const particles::SampleStats& st,
+                           const particles::ParticleState& ps) {
+  std::vector<double> absk(ps.size());
+  for (size_t i = 0; i < ps.size(); ++i) absk[i] = std::abs(ps.curv[i].gauss);
+  const particles::SpacingStats sp = particles::spacing_stats(particles::local_spacing(ps.x), absk);
+  nlohmann::json hist = nlohmann::json::array();
+  for (const auto& h : st.history)
+    hist.push_back({{"iteration", h.iteration}, {"count", h.count}, {"births", h.births}, {"deaths", h.deaths},
+                    {"mean_energy", h.mean_energy}, {"mean_move", h.mean_move}});
+  return {{"particles", st.particles},
+          {"requested_particles", o.particles},
+          {"requested_spacing_mm", o.spacing},
+          {"seeds", st.seeds},
+          {"pool", st.pool},
+          {"candidates", st.candidates},
+          {"births", st.births},
+          {"deaths", st.deaths},
+          {"iterations", st.iterations},
+          {"converged", st.converged},
+          {"flat_spacing_mm", st.spacing},
+          {"area_mm2", st.area},
+          {"thickness_bound", st.thickness_bound},
+          {"curvature_scale", o.curvature_scale},
+          {"sqrt_abs_K_clamp", {st.kappa_lo, st.kappa_hi}},
+          {"spacing",
+           {{"mean_mm", sp.mean},
+            {"cv", sp.cv},
+            {"median_high_K_mm", sp.high_k_median},
+            {"median_low_K_mm", sp.low_k_median},
+            {"high_over_low", sp.ratio},
+            {"rank_correlation_with_abs_K", sp.rank_correlation}}},
+          {"seconds", {{"seed", st.seconds_seed}, {"iterate", st.seconds_iterate}, {"population", st.seconds_population}}},
+          {"history", hist}};
+}
+
+// The particle steps on the chosen backend.
+particles::Stepper stepper(const mpu::MpuSurface& s, ComputeBackend& backend) {
+  return [&s, &backend](const particles::StepParams& p, particles::ParticleState& st, int n) {
+    backend.particle_iterations(s, st, p, n);
+  };
+}
+
+PointCloud particle_cloud(const particles::ParticleState& ps) {
+  PointCloud c;
+  c.positions = ps.x;
+  c.normals = ps.normal;
+  return c;
+}
+
+nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
+  return {{"particles", st.particles},
+          {"repair_points", st.repair_points},
+          {"unused_particles", st.unused_points},
+          {"components_flipped", st.flipped_components},
+          {"seconds", st.seconds}};
+}
+
+bool is_mesh_path(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".stl" || ext == ".ply" || ext == ".obj" || ext == ".off";
+}
+
+}  // namespace
+
+void add_sample_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  struct Opts {
+    std::string surface, output, points;
+    particles::SampleOptions sample;
+    BackendOptions backend;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("sample", "Spread curvature-adaptive particles over an MPU surface");
+  cmd->add_option("surface", o->surface, "surface: .mpu")->required();
+  cmd->add_option("-o,--output", o->output, "particles: .ply or .xyz (x y z nx ny nz)")->required();
+  cmd->add_option("--points", o->points, "seed candidates: the fitted points (default: the surface's leaf centres)");
+  add_sample_options(cmd, o->sample, "--iterations");
+  add_backend_options(cmd, o->backend);
+  add_common(cmd, common);
+  cmd->callback([&common, &action, o] {
+    action = [&common, o] {
+      check_writable(o->output);
+      particles::validate(o->sample);
+      Progress progress(common.quiet || common.json);
+      progress.begin("read surface");
+      const mpu::MpuSurface s = mpu::read_mpu(o->surface);
+      const std::vector<Eigen::Vector3d> candidates =
+          o->points.empty() ? particles::leaf_candidates(s) : read_point_cloud(o->points).positions;
+      progress.end();
+      const vk::BackendChoice choice = open_backend(o->backend, common, progress);
+      progress.begin("particles");
+      particles::SampleStats st;
+      const particles::ParticleState ps = particles::sample_surface(s, candidates, o->sample, stepper(s, *choice.backend), &st);
+      progress.end();
+      progress.begin("write particles");
+      write_point_cloud(particle_cloud(ps), o->output);
+      progress.end();
+      nlohmann::json j = sample_json(o->sample, st, ps);
+      j["input"] = o->surface;
+      j["output"] = o->output;
+      j["backend"] = backend_json(choice);
+      j["stage_seconds"] = stage_json(progress);
+      if (common.json) std::cout << j.dump(2) << '\n';
+      else if (!common.quiet)
+        std::cout << fmt::format("{}: {} particles after {} iterations ({}), flat spacing {:.3g} mm ({})\n", o->output,
+                                 st.particles, st.iterations, st.converged ? "settled" : "at the cap", st.spacing,
+                                 choice.backend->device());
+    };
+  });
+}
+
+void add_triangulate_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  struct Opts {
+    std::string surface, particles, output;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("triangulate", "Restricted Delaunay mesh of particles on an MPU surface (CGAL)");
+  cmd->add_option("surface", o->surface, "surface: .mpu")->required();
+  cmd->add_option("particles", o->particles, "particles: .ply or .xyz")->required();
+  cmd->add_option("-o,--output", o->output, "mesh: .ply, .stl, .obj or .off")->required();
+  add_common(cmd, common);
+  cmd->callback([&common, &action, o] {
+    action = [&common, o] {
+      check_writable(o->output);
+      mesh_format_from_path(o->output);
+      Progress progress(common.quiet || common.json);
+      progress.begin("read");
+      const mpu::MpuSurface s = mpu::read_mpu(o->surface);
+      const PointCloud p = read_point_cloud(o->particles);
+      progress.end();
+      progress.begin("triangulate");
+      RestrictedDelaunayStats st;
+      const TriangleMesh mesh = restricted_delaunay(s, p.positions, &st);
+      progress.end();
+      progress.begin("write mesh");
+      write_mesh(mesh, o->output);
+      progress.end();
+      const Topology t = analyze_topology(mesh);
+      nlohmann::json j = triangulation_json(st);
+      j["input"] = {o->surface, o->particles};
+      j["output"] = o->output;
+      j["vertices"] = mesh.vertices.size();
+      j["triangles"] = mesh.triangles.size();
+      j["closed"] = t.closed;
+      j["oriented_manifold"] = t.oriented;
+      j["components"] = t.components;
+      j["stage_seconds"] = stage_json(progress);
+      if (common.json) std::cout << j.dump(2) << '\n';
+      else if (!common.quiet)
+        std::cout << fmt::format("{}: {} triangles, {} repair points, closed {}, oriented manifold {}\n", o->output,
+                                 mesh.triangles.size(), st.repair_points, t.closed ? "yes" : "no",
+                                 t.oriented ? "yes" : "no");
+    };
+  });
+}
+
+void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  struct Opts {
+    std::string input, output, report, local_fit = "orthopoly";
+    SegmentCli seg;
+    mpu::FitOptions fit;
+    particles::SampleOptions sample;
+    BackendOptions backend;
+    bool self_intersections = true;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand(
+      "run", "The whole job: a CT/MR volume (or a surface mesh, to remesh it) to a smooth adaptive mesh");
+  cmd->add_option("input", o->input,
+                  "volume (DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3) or mesh (.stl, .ply, .obj, .off)")
+      ->required();
+  cmd->add_option("-o,--output", o->output, "mesh: .ply, .stl, .obj or .off")->required();
+  cmd->add_option("--report", o->report, "write the JSON report here");
+  cmd->add_flag("!--no-self-intersections", o->self_intersections, "skip the self-intersection test of the report");
+  add_segment_options(cmd, o->seg);
+  add_fit_options(cmd, o->fit, o->local_fit);
+  add_sample_options(cmd, o->sample, "--particle-iterations");
+  add_backend_options(cmd, o->backend);
+  add_common(cmd, common);
+  cmd->callback([&common, &action, o] {
+    action = [&common, o] {
+      // Every output and parameter is checked before the long work starts.
+      check_writable(o->output);
+      mesh_format_from_path(o->output);
+      if (!o->report.empty()) check_writable(o->report);
+      o->fit.local_fit = o->local_fit == "quadric" ? mpu::LocalFit::kQuadric : mpu::LocalFit::kOrthopoly;
+      mpu::validate(o->fit);
+      particles::validate(o->sample);
+      Progress progress(common.quiet || common.json);
+      nlohmann::json j;
+      PointCloud cloud;
+      vk::BackendChoice choice;
+      if (is_mesh_path(o->input)) {
+        progress.begin("read mesh");
+        const TriangleMesh in = read_mesh(o->input);
+        progress.end();
+        progress.begin("points");
+        cloud = pts::mesh_points(in);
+        progress.end();
+        if (cloud.size() == 0) throw InputError(o->input + ": the mesh has no triangle with an area");
+        j["input"] = {{"path", o->input}, {"kind", "mesh"}, {"vertices", in.vertices.size()},
+                      {"triangles", in.triangles.size()}};
+        choice = open_backend(o->backend, common, progress);
+      } else {
+        SegmentedVolume sv = read_and_segment(o->input, o->seg, o->backend, common, progress);
+        progress.begin("points");
+        pts::SlicePoints p = pts::extract_points(sv.segmentation, sv.volume, {});
+        progress.end();
+        if (p.cloud.size() == 0)
+          throw InputError(o->input + ": the segmentation holds no surface (nothing inside the threshold range?)");
+        cloud = std::move(p.cloud);
+        const Volume& vol = sv.volume;
+        j["input"] = {{"path", o->input},
+                      {"kind", "volume"},
+                      {"dims", vol.dims},
+                      {"spacing_mm", {vol.spacing.x(), vol.spacing.y(), vol.spacing.z()}},
+                      {"modality", vol.modality}};
+        j["segmentation"] = segment_json(sv.options, sv.segmentation);
+        choice = std::move(sv.backend);
+      }
+      j["points"] = cloud.size();
+      progress.begin("fit");
+      mpu::FitStats fit_stats;
+      const mpu::MpuSurface s = mpu::fit_mpu(cloud, o->fit, &fit_stats);
+      progress.end();
+      progress.begin("particles");
+      particles::SampleStats sst;
+      const particles::ParticleState ps =
+          particles::sample_surface(s, cloud.positions, o->sample, stepper(s, *choice.backend), &sst);
+      progress.end();
+      progress.begin("triangulate");
+      RestrictedDelaunayStats tst;
+      const TriangleMesh mesh = restricted_delaunay(s, ps.x, &tst);
+      progress.end();
+      const Topology topo = analyze_topology(mesh);
+      if (!topo.closed || !topo.oriented)
+        throw InputError(fmt::format("{}: the triangulation is not a closed oriented manifold ({} border edges, {} "
+                                     "non-manifold edges, {} non-manifold vertices); nothing written",
+                                     o->input, topo.border_edges, topo.nonmanifold_edges, topo.nonmanifold_vertices));
+      progress.begin("write mesh");
+      write_mesh(mesh, o->output);
+      progress.end();
+      j["fit"] = fit_json(o->fit, fit_stats);
+      j["particles"] = sample_json(o->sample, sst, ps);
+      j["triangulation"] = triangulation_json(tst);
+      j["backend"] = backend_json(choice);
+      j["kernel_ms"] = choice.backend->kernel_ms();
+      j["output"] = o->output;
+      j["vertices"] = mesh.vertices.size();
+      j["triangles"] = mesh.triangles.size();
+      if (!o->report.empty() || common.json || !common.quiet) {
+        progress.begin("quality");
+        QualityOptions qo;
+        qo.self_intersections = o->self_intersections;
+        const Quality q = measure_quality(mesh, qo);
+        progress.end();
+        j["quality"] = quality_to_json(q);
+        if (!common.json && !common.quiet)
+          std::cout << o->output << ": " << mesh.triangles.size() << " triangles from " << ps.size()
+                    << " particles (" << choice.backend->device() << ")\n"
+                    << quality_to_text(q);
+      }
+      j["stage_seconds"] = stage_json(progress);
+      j["version"] = MPUMESH_VERSION;
+      if (!o->report.empty()) write_json_file(j, o->report);
+      if (common.json) std::cout << j.dump(2) << '\n';
+    };
+  });
+}
+
+}  // namespace mpumesh::tools
