@@ -1,5 +1,5 @@
-// Particle projection onto f = 0: Newton steps x -= f ∇f / |∇f|² (each capped at σ),
-// then f, ∇f, H and the curvature at the new position. CPU reference: project_step in
+// Particle projection onto f = 0: Newton steps x -= f ∇f / |∇f|² (each capped at σ), the
+// last from the full evaluation (f, ∇f, H) that also gives normal and curvature. CPU reference: project_step in
 // core/particles/particle_step_ref.cpp.
 #version 450
 #extension GL_GOOGLE_include_directive : require
@@ -25,7 +25,7 @@ void main() {
   vec3 x = pos_new[i].xyz;
   float sigma = pos_new[i].w;
   bool ok = true;
-  for (uint k = 0u; k < pc.newton_steps; ++k) {
+  for (uint k = 0u; k + 1u < pc.newton_steps; ++k) {
     MpuSample s = mpu_evaluate(x);
     float g2 = dot(s.g, s.g);
     ok = ok && g2 > 0.0 && s.leaves > 0u;
@@ -34,14 +34,19 @@ void main() {
     if (len > sigma) step *= sigma / len;
     x += step;
   }
+  // The last Newton step from the full evaluation, which also gives normal and curvature.
   MpuSample s = mpu_evaluate(x);
-  float g = length(s.g);
-  pos[i] = vec4(x, sigma);
+  float g2 = dot(s.g, s.g), g = sqrt(g2);
   if (!ok || !(g > 0.0) || s.leaves == 0u) {
+    pos[i] = vec4(x, sigma);
     normal[i] = vec4(0.0, 0.0, 1.0, uintBitsToFloat(0x7fc00000u));  // lost
     curv[i] = vec4(0.0);
     return;
   }
-  normal[i] = vec4(s.g / g, s.f / g);
+  vec3 step = -s.f / g2 * s.g;
+  float len = length(step);
+  if (len > sigma) step *= sigma / len;
+  pos[i] = vec4(x + step, sigma);
+  normal[i] = vec4(s.g / g, (s.f + dot(s.g, step)) / g);
   curv[i] = mpu_curvature(s.g, s.H);
 }

@@ -77,7 +77,13 @@ int64_t count_self_intersections(const TriangleMesh& mesh) {
   return count;
 }
 
-DistanceSamples sample_distances(const TriangleMesh& from, const TriangleMesh& to) {
+namespace {
+
+using Prim = CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>;
+using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Prim>>;
+
+// The non-degenerate triangles of `to` (kept alive beside the tree that points into them).
+std::vector<Triangle> cgal_triangles(const TriangleMesh& to) {
   if (to.triangles.empty()) throw InputError("reference mesh has no triangles");
   std::vector<Triangle> tris;
   tris.reserve(to.triangles.size());
@@ -85,8 +91,22 @@ DistanceSamples sample_distances(const TriangleMesh& from, const TriangleMesh& t
     Triangle tr(to_cgal(to.vertices[t[0]]), to_cgal(to.vertices[t[1]]), to_cgal(to.vertices[t[2]]));
     if (!tr.is_degenerate()) tris.push_back(tr);
   }
-  using Prim = CGAL::AABB_triangle_primitive<K, std::vector<Triangle>::const_iterator>;
-  using Tree = CGAL::AABB_tree<CGAL::AABB_traits<K, Prim>>;
+  return tris;
+}
+
+}  // namespace
+
+std::vector<double> point_distances(const std::vector<Eigen::Vector3d>& points, const TriangleMesh& to) {
+  const std::vector<Triangle> tris = cgal_triangles(to);
+  Tree tree(tris.cbegin(), tris.cend());
+  tree.accelerate_distance_queries();
+  std::vector<double> d(points.size());
+  for (size_t i = 0; i < points.size(); ++i) d[i] = std::sqrt(tree.squared_distance(to_cgal(points[i])));
+  return d;
+}
+
+DistanceSamples sample_distances(const TriangleMesh& from, const TriangleMesh& to) {
+  const std::vector<Triangle> tris = cgal_triangles(to);
   Tree tree(tris.cbegin(), tris.cend());
   tree.accelerate_distance_queries();
   DistanceSamples s;

@@ -20,4 +20,7 @@ struct DistanceSamples {
 };
 DistanceSamples sample_distances(const TriangleMesh& from, const TriangleMesh& to);
 
+// Distance (mm) from each point to the surface `to`.
+std::vector<double> point_distances(const std::vector<Eigen::Vector3d>& points, const TriangleMesh& to);
+
 }  // namespace mpumesh

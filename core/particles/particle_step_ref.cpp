@@ -145,17 +145,25 @@ void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams&
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Eigen::Vector3d x = st.x[i];
-      const bool ok = newton_project(s, x, p.newton_steps, st.sigma[i]);
+      const double cap = st.sigma[i];
+      const bool ok = newton_project(s, x, p.newton_steps - 1, cap);
+      // The last Newton step takes its f and ∇f from the full evaluation, which also gives
+      // the normal and the curvature: one evaluation per particle and iteration by default.
       const mpu::Sample e = mpu::evaluate(s, x);
-      const double g = e.g.norm();
-      st.x[i] = x;
+      const double g2 = e.g.squaredNorm(), g = std::sqrt(g2);
       if (!ok || !(g > 0) || e.leaves == 0) {
+        st.x[i] = x;
         st.distance[i] = NAN;  // lost: no surface here; the population step removes it
         st.curv[i] = {};
         continue;
       }
+      Eigen::Vector3d step = -e.f / g2 * e.g;
+      const double len = step.norm();
+      if (len > cap) step *= cap / len;
+      st.x[i] = x + step;
       st.normal[i] = e.g / g;
-      st.distance[i] = e.f / g;
+      // The linearised f / |∇f| after the step: 0 unless the step was capped.
+      st.distance[i] = (e.f + e.g.dot(step)) / g;
       st.curv[i] = mpu::curvature(e.g, e.H);
     }
   });

@@ -16,8 +16,10 @@
 //      σ̇_i = -ρ (E_i - Ê) / (∂E_i/∂σ_i + β), σ_i += Δt σ̇_i, the change capped at the
 //      factor sigma_change either way and σ_i at sigma_cap (both steps linearly implicit,
 //      see repulsion_step);
-//   3. projection: newton_steps Newton steps x -= f ∇f / |∇f|², then f, ∇f, H and the
-//      curvature at the new position (Kindlmann), for the next iteration and the weights.
+//   3. projection: newton_steps Newton steps x -= f ∇f / |∇f|² (each capped at σ_i), the
+//      last one from a full evaluation (f, ∇f, H) that also gives the normal and the
+//      curvature (Kindlmann) for the next iteration and the weights; the distance kept is
+//      the linearised f / |∇f| after that step (0 unless capped).
 // The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
 // particle's target radius instead (particle_population.h), which is the reading that
 // makes high curvature denser (see DESIGN.md): scaling E_i and Ê alike would change the
@@ -46,7 +48,7 @@ struct StepParams {
   // Largest σ during a batch of iterations, set by the driver (particle_system.h): it
   // bounds the interaction range, so the GPU's neighbour grid can be sized once a batch.
   double sigma_cap = 1e30;
-  int newton_steps = 2;
+  int newton_steps = 1;  // at least 1
 };
 
 // The particles, structure of arrays. x, sigma are the state; normal, distance and curv

@@ -91,26 +91,38 @@ Eigen::Vector3d tangent(const Eigen::Vector3d& n, double u) {
 
 // Curvature weights λ_i = exp(-S k̂_i), k̂_i = √|K_i| clamped to mean ± 2 sd and scaled by
 // the clamp range (at least the mean, so that a surface of nearly constant curvature, a
-// sphere, gets uniform weights rather than its noise scaled up to 0..1).
+// sphere, gets uniform weights rather than its noise scaled up to 0..1). The mean and sd
+// are taken over the values below the 99th percentile: where ∇f nearly vanishes (between
+// two sheets of a CT surface) K reaches 1e14 and would set the clamp range alone.
 std::vector<double> curvature_weights(const std::vector<mpu::Curvature>& curv, const std::vector<double>& distance,
                                       double scale, double& lo, double& hi) {
-  double sum = 0, sum2 = 0;
-  int64_t n = 0;
-  for (size_t i = 0; i < curv.size(); ++i) {
-    if (!std::isfinite(distance[i])) continue;
-    const double k = std::sqrt(std::abs(curv[i].gauss));
-    sum += k;
-    sum2 += k * k;
-    ++n;
+  std::vector<double> k;
+  k.reserve(curv.size());
+  for (size_t i = 0; i < curv.size(); ++i)
+    if (std::isfinite(distance[i]) && std::isfinite(curv[i].gauss)) k.push_back(std::sqrt(std::abs(curv[i].gauss)));
+  double mean = 0, sd = 0;
+  if (!k.empty()) {
+    const size_t p99 = std::min(k.size() - 1, size_t(0.99 * double(k.size())));
+    std::nth_element(k.begin(), k.begin() + ptrdiff_t(p99), k.end());
+    const double cut = k[p99];
+    double sum = 0, sum2 = 0;
+    int64_t n = 0;
+    for (double v : k)
+      if (v <= cut) {
+        sum += v;
+        sum2 += v * v;
+        ++n;
+      }
+    mean = sum / double(n);
+    sd = std::sqrt(std::max(sum2 / double(n) - mean * mean, 0.0));
   }
-  const double mean = n ? sum / double(n) : 0, sd = n ? std::sqrt(std::max(sum2 / double(n) - mean * mean, 0.0)) : 0;
   lo = std::max(mean - 2 * sd, 0.0);
   hi = mean + 2 * sd;
   const double range = std::max({hi - lo, mean, 1e-12});
   std::vector<double> w(curv.size(), 1.0);
   for (size_t i = 0; i < curv.size(); ++i) {
-    const double k = std::clamp(std::sqrt(std::abs(curv[i].gauss)), lo, hi);
-    w[i] = std::exp(-scale * (k - lo) / range);
+    const double g = std::isfinite(curv[i].gauss) ? std::abs(curv[i].gauss) : 0.0;
+    w[i] = std::exp(-scale * (std::clamp(std::sqrt(g), lo, hi) - lo) / range);
   }
   return w;
 }
@@ -370,8 +382,10 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     return sp;
   };
   int it = 0, quiet_updates = 0, update = 0;
+  bool final_batch = false;  // settled: one more batch to relax, without population changes
   while (it < opt.iterations) {
     const int batch = std::min(opt.population_every, opt.iterations - it);
+    final_batch = final_batch || it + batch >= opt.iterations;
     const auto t_iter = Clock::now();
     step(batch_params(2), st, batch);
     it += batch;
@@ -379,6 +393,8 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     const auto t_pop = Clock::now();
     ++update;
     lambda = curvature_weights(st.curv, st.distance, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
+    // Thickness for all every 4th update (it costs up to 12 evaluations a particle);
+    // new particles get theirs when they are made.
     if (update % 4 == 0) {
       std::vector<double> md(st.size());
       for (size_t i = 0; i < st.size(); ++i) md[i] = h * lambda[i] / opt.thickness_factor;
@@ -397,8 +413,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     }
     rec.mean_energy = energy / double(std::max<size_t>(st.size(), 1));
     rec.mean_move = move / double(std::max<size_t>(st.size(), 1));
-    const bool last = it >= opt.iterations;
-    if (!last) {
+    if (!final_batch) {
       // Decide on the state as it is, then build the next population in index order:
       // survivors (a splitting parent moved to one side), then the second children.
       const std::vector<uint8_t> fate = decide_population(st, opt, it, cap);
@@ -425,13 +440,26 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
         if (split) offset[i] = 0.5 * st.sigma[i] * tangent(st.normal[i], hash01(uint32_t(i), uint32_t(it), opt.seed, 1));
         push(i, st.x[i] - offset[i], split ? st.sigma[i] / std::sqrt(2.0) : st.sigma[i]);
       }
+      std::vector<double> child_lambda;
+      const size_t survivors = next.size();
       for (size_t i = 0; i < st.size(); ++i)
         if (fate[i] == kSplit) {
           push(i, st.x[i] + offset[i], st.sigma[i] / std::sqrt(2.0));
+          child_lambda.push_back(lambda[i]);
           ++rec.births;
         }
       st = std::move(next);
       thickness = std::move(next_thick);
+      if (!child_lambda.empty()) {
+        ParticleState kids;
+        kids.x.assign(st.x.begin() + ptrdiff_t(survivors), st.x.end());
+        kids.normal.assign(st.normal.begin() + ptrdiff_t(survivors), st.normal.end());
+        kids.distance.assign(kids.x.size(), 0.0);
+        std::vector<double> md(kids.x.size());
+        for (size_t k = 0; k < md.size(); ++k) md[k] = h * child_lambda[k] / opt.thickness_factor;
+        const std::vector<double> t = thicknesses(s, kids, md);
+        std::copy(t.begin(), t.end(), thickness.begin() + ptrdiff_t(survivors));
+      }
       stats.births += rec.births;
       stats.deaths += rec.deaths;
     }
@@ -445,17 +473,12 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     // iterations barely change the spacing there.)
     const bool settled = rec.births + rec.deaths <= std::max<int64_t>(1, int64_t(st.size()) / 200) &&
                          rec.mean_move < 0.1;
+    if (final_batch) break;
     quiet_updates = settled ? quiet_updates + 1 : 0;
     if (it >= opt.min_iterations && quiet_updates >= 2) {
       stats.converged = true;
-      break;
+      final_batch = true;
     }
-  }
-  // The last batch may have moved split children off the surface: project once more.
-  if (stats.history.empty() || stats.history.back().births > 0) {
-    const auto t_iter = Clock::now();
-    step(batch_params(0), st, 1);
-    stats.seconds_iterate += seconds_since(t_iter);
   }
   stats.iterations = it;
   stats.particles = int64_t(st.size());

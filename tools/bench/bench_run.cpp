@@ -1,0 +1,190 @@
+// Benchmark: the whole job on the sample CT (bone at 226 HU) against its peers, all
+// measured in the same run on the same volume: the marching-cubes baseline (`mpumesh mc`),
+// the original MPU mesh (`mpumesh polygonize` of our fit) and CGAL Mesh_3 on the gray
+// image with manifold() (tools/bench/cgal_mesh3_peer.h). For each: triangles, time,
+// topology, triangle quality, smoothness (mean dihedral angle) and fidelity to the
+// marching-cubes surface (mean and 99th-percentile distances both ways, and bones
+// missing: marching-cubes components of more than 100 triangles whose vertices lie
+// farther than 2 mm from the mesh, median). Ours runs on the backend `auto` picks.
+// Usage:
+//   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE]
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+
+#include "cgal_mesh3_peer.h"
+#include "compute/cpu_backend.h"
+#include "io/volume_io.h"
+#include "mc/marching_cubes.h"
+#include "mesh/cgal_geometry.h"
+#include "mesh/quality.h"
+#include "mesh/restricted_delaunay.h"
+#include "mpu/mpu_fit.h"
+#include "mpu/polygonize.h"
+#include "particles/particle_system.h"
+#include "points/slice_points.h"
+#include "segment/segmentation.h"
+#include "vulkan_backend.h"
+
+using namespace mpumesh;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double sec_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct Row {
+  std::string name;
+  const TriangleMesh* mesh = nullptr;
+  double seconds = 0;
+  Quality q;
+  double mean_to_mc = 0, p99_to_mc = 0, p99_from_mc = 0;
+  int64_t missing_bones = 0, bones = 0;
+};
+
+double weighted_percentile(const DistanceSamples& d, double q) {
+  std::vector<size_t> o(d.distance.size());
+  for (size_t i = 0; i < o.size(); ++i) o[i] = i;
+  std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return d.distance[a] < d.distance[b]; });
+  double total = 0;
+  for (double w : d.weight) total += w;
+  double acc = 0;
+  for (size_t i : o) {
+    acc += d.weight[i];
+    if (acc >= q * total) return d.distance[i];
+  }
+  return o.empty() ? 0 : d.distance[o.back()];
+}
+
+void measure(Row& r, const TriangleMesh& mc, bool self_intersections) {
+  QualityOptions qo;
+  qo.self_intersections = self_intersections;
+  r.q = measure_quality(*r.mesh, qo);
+  if (r.mesh == &mc) return;
+  const DistanceSamples to = sample_distances(*r.mesh, mc), from = sample_distances(mc, *r.mesh);
+  double sw = 0, sd = 0;
+  for (size_t i = 0; i < to.distance.size(); ++i) {
+    sw += to.weight[i];
+    sd += to.weight[i] * to.distance[i];
+  }
+  r.mean_to_mc = sw > 0 ? sd / sw : 0;
+  r.p99_to_mc = weighted_percentile(to, 0.99);
+  r.p99_from_mc = weighted_percentile(from, 0.99);
+  // Bones: marching-cubes components of more than 100 triangles; missing when the median
+  // distance of their vertices to the mesh exceeds 2 mm.
+  int64_t ncomp = 0;
+  const std::vector<int32_t> comp = triangle_components(mc, &ncomp);
+  std::vector<int64_t> tri_count(size_t(ncomp), 0);
+  for (int32_t c : comp) ++tri_count[size_t(c)];
+  std::vector<std::vector<Eigen::Vector3d>> verts(static_cast<size_t>(ncomp));
+  for (size_t t = 0; t < mc.triangles.size(); ++t)
+    if (tri_count[size_t(comp[t])] > 100) verts[size_t(comp[t])].push_back(mc.vertices[mc.triangles[t][0]]);
+  for (size_t c = 0; c < verts.size(); ++c) {
+    if (verts[c].empty()) continue;
+    ++r.bones;
+    std::vector<double> d = point_distances(verts[c], *r.mesh);
+    std::nth_element(d.begin(), d.begin() + ptrdiff_t(d.size() / 2), d.end());
+    r.missing_bones += d[d.size() / 2] > 2.0;
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE]\n", argv[0]);
+    return 2;
+  }
+  const std::string path = argv[1];
+  const double iso = argc > 2 ? std::stod(argv[2]) : 226;
+  const int64_t particles = argc > 3 ? std::stoll(argv[3]) : 45000;
+  bench::Mesh3Params m3;
+  m3.iso = iso;
+  if (argc > 4) m3.facet_size = std::stod(argv[4]);
+  if (argc > 5) m3.facet_distance = std::stod(argv[5]);
+
+  const Volume vol = read_volume(path);
+  std::printf("volume %s: %lld x %lld x %lld, spacing %.3f x %.3f x %.3f mm, threshold %g\n", path.c_str(),
+              (long long)vol.dims[0], (long long)vol.dims[1], (long long)vol.dims[2], vol.spacing.x(), vol.spacing.y(),
+              vol.spacing.z(), iso);
+  CpuBackend cpu;
+  vk::BackendChoice choice = vk::make_backend("auto");
+  std::printf("ours on: %s%s\n", choice.backend->device().c_str(),
+              choice.note.empty() ? "" : (" (" + choice.note + ")").c_str());
+
+  auto t = Clock::now();
+  const TriangleMesh mc_mesh = marching_cubes(vol, mc::ThresholdRange{iso}, cpu);
+  const double t_mc = sec_since(t);
+
+  // Ours, stage by stage.
+  const auto t_all = Clock::now();
+  t = Clock::now();
+  seg::SegmentOptions so;
+  so.method = seg::Method::kThreshold;
+  so.threshold = mc::ThresholdRange{iso};
+  const seg::Segmentation segm = seg::segment(vol, so, *choice.backend);
+  const double t_seg = sec_since(t);
+  t = Clock::now();
+  const pts::SlicePoints sp = pts::extract_points(segm, vol);
+  const double t_points = sec_since(t);
+  t = Clock::now();
+  const mpu::MpuSurface surf = mpu::fit_mpu(sp.cloud, {});
+  const double t_fit = sec_since(t);
+  t = Clock::now();
+  particles::SampleOptions po;
+  po.particles = particles;
+  particles::SampleStats pst;
+  ComputeBackend& be = *choice.backend;
+  const particles::ParticleState ps = particles::sample_surface(
+      surf, sp.cloud.positions, po,
+      [&](const particles::StepParams& p, particles::ParticleState& st, int n) { be.particle_iterations(surf, st, p, n); },
+      &pst);
+  const double t_particles = sec_since(t);
+  t = Clock::now();
+  RestrictedDelaunayStats rst;
+  const TriangleMesh ours = restricted_delaunay(surf, ps.x, &rst);
+  const double t_tri = sec_since(t);
+  const double t_ours = sec_since(t_all);
+  std::printf("ours: segment %.2f s, points %.2f s (%zu), fit %.2f s (%zu leaves), particles %.2f s (%lld, %d "
+              "iterations, %s), triangulate %.2f s (%lld repair points): %.2f s\n",
+              t_seg, t_points, sp.cloud.size(), t_fit, surf.leaves.size(), t_particles, (long long)pst.particles,
+              pst.iterations, pst.converged ? "settled" : "at the cap", t_tri, (long long)rst.repair_points, t_ours);
+
+  t = Clock::now();
+  const TriangleMesh poly = mpu::polygonize(surf, 0, cpu);
+  const double t_poly = sec_since(t);
+
+  const bench::Mesh3Result cg = bench::cgal_mesh3(vol, mc_mesh, m3);
+  std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g, %lld initial points, %.2f s\n",
+              m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg.initial_points, cg.seconds);
+
+  std::vector<Row> rows(4);
+  rows[0] = {"ours (" + choice.backend->kind() + ")", &ours, t_ours};
+  rows[1] = {"CGAL Mesh_3", &cg.mesh, cg.seconds};
+  rows[2] = {"original MPU", &poly, t_poly + t_seg + t_points + t_fit};
+  rows[3] = {"marching cubes", &mc_mesh, t_mc};
+  for (size_t i = 0; i < rows.size(); ++i) measure(rows[i], mc_mesh, i < 2);
+
+  std::printf("\n%-16s %9s %8s %6s %5s %6s %6s %8s %7s %7s %7s %6s %7s %7s %7s %8s\n", "mesh", "triangles", "time s",
+              "closed", "manif", "genus", "comps", "self-int", "minang", "%<30", "%<15", "RR", "dihed", "mean-d",
+              "p99 to", "p99 from");
+  for (const Row& r : rows) {
+    const Quality& q = r.q;
+    // % of triangles under 15 degrees is not kept by Quality; under 10 and 20 are.
+    std::printf("%-16s %9lld %8.2f %6s %5s %6lld %6lld %8lld %7.2f %7.2f %7.2f %6.3f %7.2f %7.3f %7.3f %8.3f\n",
+                r.name.c_str(), (long long)q.topo.triangles, r.seconds, q.topo.closed ? "yes" : "no",
+                q.topo.manifold ? "yes" : "no", (long long)q.topo.genus, (long long)q.topo.components,
+                (long long)q.self_intersections, q.angle_min, q.pct_angle_below[2], q.pct_angle_below[1],
+                q.radius_ratio_mean, q.dihedral_mean, r.mean_to_mc, r.p99_to_mc, r.p99_from_mc);
+  }
+  std::printf("(%%<15 column: %% of triangles under 20 degrees; min angle in degrees; RR mean radius ratio; dihed "
+              "mean dihedral angle in degrees; distances in mm to and from the marching-cubes surface)\n");
+  for (const Row& r : rows)
+    if (r.bones) std::printf("%s: %lld of %lld bones missing\n", r.name.c_str(), (long long)r.missing_bones, (long long)r.bones);
+  std::printf("\ntime ours / CGAL Mesh_3: %.2f; triangles ours / CGAL: %.2f\n", t_ours / cg.seconds,
+              double(ours.triangles.size()) / double(std::max<size_t>(cg.mesh.triangles.size(), 1)));
+  return 0;
+}
