@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "mesh/quality.h"
+#include "mesh/topology.h"
 #include "mesh/restricted_delaunay.h"
 #include "mpu/mpu_fit.h"
 #include "particles/particle_system.h"
@@ -108,6 +109,53 @@ TEST(RestrictedDelaunay, SphereEllipsoidTorus) {
   check_mesh("sphere", test::AnalyticShape{}, 3000, 0);
   check_mesh("ellipsoid", test::AnalyticShape{test::AnalyticShape::kEllipsoid, 30, 20, 10}, 4000, 0);
   check_mesh("torus", test::AnalyticShape{test::AnalyticShape::kTorus, 25, 8, 8}, 5000, 1);
+}
+
+// A thin plate: a spherical shell 1.5 mm thick (outer r 20, inner 18.5), asked for a 4 mm
+// spacing. The thickness bound spaces most particles at 1.5 mm, so the restricted
+// Delaunay mesh is the two spheres, each closed, no triangle bridges the wall and no
+// repair point is needed.
+TEST(Particles, ThinPlateIsNotBridged) {
+  PointCloud shell = test::sample_shape(test::AnalyticShape{test::AnalyticShape::kSphere, 20, 20, 20}, 0.5, 0.5, true);
+  const PointCloud inner =
+      test::sample_shape(test::AnalyticShape{test::AnalyticShape::kSphere, 18.5, 18.5, 18.5}, 0.5, 0.5, true);
+  for (size_t i = 0; i < inner.size(); ++i) {
+    shell.positions.push_back(inner.positions[i]);
+    shell.normals.push_back(-inner.normals[i]);  // outward of the shell: toward the centre
+  }
+  const mpu::MpuSurface s = mpu::fit_mpu(shell, {});
+  for (const double factor : {1.0, 100.0}) {
+    particles::SampleOptions o;
+    o.spacing = 4.0;
+    o.thickness_factor = factor;
+    particles::SampleStats st;
+    const ParticleState ps = particles::sample_surface(s, shell.positions, o, cpu_stepper(s), &st);
+    RestrictedDelaunayStats rs;
+    const TriangleMesh m = restricted_delaunay(s, ps.x, &rs);
+    int64_t bridging = 0;
+    for (const auto& t : m.triangles) {
+      int outer = 0;
+      for (uint32_t v : t) outer += m.vertices[v].norm() > 19.25;
+      bridging += outer == 1 || outer == 2;
+    }
+    const Topology topo = analyze_topology(m);
+    std::printf("thickness factor %g: %lld particles, %lld thickness-bound, %lld repair points, %zu triangles, "
+                "%lld bridging, %lld components, closed %d\n",
+                factor, (long long)st.particles, (long long)st.thickness_bound, (long long)rs.repair_points,
+                m.triangles.size(), (long long)bridging, (long long)topo.components, int(topo.closed));
+    if (factor == 1.0) {
+      EXPECT_GT(st.thickness_bound, st.particles / 2);
+      EXPECT_EQ(bridging, 0);
+      EXPECT_EQ(topo.components, 2);
+      EXPECT_TRUE(topo.closed);
+      EXPECT_EQ(rs.repair_points, 0);
+    } else {
+      // Without the bound nothing limits the spacing by the wall. (Printed, not asserted:
+      // the repulsion across the 1.5 mm wall then drives births and deaths, and the count
+      // does not settle; the triangulation still separated the sheets in this case.)
+      EXPECT_EQ(st.thickness_bound, 0);
+    }
+  }
 }
 
 }  // namespace
