@@ -99,6 +99,8 @@ nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
           {"repair_points", st.repair_points},
           {"unused_particles", st.unused_points},
           {"components_flipped", st.flipped_components},
+          {"edge_flips", st.edge_flips},
+          {"edge_collapses", st.edge_collapses},
           {"seconds", st.seconds}};
 }
 

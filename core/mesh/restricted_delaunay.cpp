@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "common/error.h"
+#include "mesh/thin_triangles.h"
 #include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh {
@@ -128,6 +129,14 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   std::vector<Eigen::Vector3d> outward(mesh.vertices.size());
   for (size_t i = 0; i < mesh.vertices.size(); ++i) outward[i] = mpu::evaluate_fg(s, mesh.vertices[i]).g;
   stats.flipped_components = orient_components(mesh, outward);
+  // The repair points leave a few thin triangles (mesh/thin_triangles.h).
+  const ThinTriangleStats tt = remove_thin_triangles(mesh, [&s](const Eigen::Vector3d& x) {
+    const mpu::Sample e = mpu::evaluate_fg(s, x);
+    const double g = e.g.norm();
+    return g > 0 ? std::abs(e.f) / g : INFINITY;
+  });
+  stats.edge_flips = tt.flips;
+  stats.edge_collapses = tt.collapses;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = stats;
   return mesh;

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "mesh/quality.h"
+#include "mesh/thin_triangles.h"
 #include "test_support.h"
 
 namespace mpumesh {
@@ -137,6 +138,34 @@ TEST(Quality, TorusGenusOne) {
                           "mean_distance_mm"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["genus"], 1);
+}
+
+// A needle made by a point inserted next to a vertex of a closed mesh (as a triangulation
+// repair point can be) is collapsed away; the mesh stays closed, oriented and genus 0.
+TEST(ThinTriangles, NeedleNextToAVertexIsCollapsed) {
+  TriangleMesh m = test::icosphere(10.0, 3);
+  const Quality before = measure_quality(m, {});
+  const size_t nv = m.vertices.size();
+  // Split triangle 0 at a point 0.05 of the way from its first corner to its centroid.
+  const auto t = m.triangles[0];
+  const Eigen::Vector3d c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3;
+  const Eigen::Vector3d p = (m.vertices[t[0]] + 0.05 * (c - m.vertices[t[0]])).normalized() * 10.0;
+  m.vertices.push_back(p);
+  const uint32_t q = uint32_t(nv);
+  m.triangles[0] = {t[0], t[1], q};
+  m.triangles.push_back({t[1], t[2], q});
+  m.triangles.push_back({t[2], t[0], q});
+  ASSERT_LT(measure_quality(m, {}).angle_min, 5.0);
+  const ThinTriangleStats st =
+      remove_thin_triangles(m, [](const Eigen::Vector3d& x) { return std::abs(x.norm() - 10.0); });
+  const Quality after = measure_quality(m, {});
+  EXPECT_EQ(st.collapses, 1);
+  EXPECT_EQ(m.vertices.size(), nv);
+  EXPECT_TRUE(after.topo.closed);
+  EXPECT_TRUE(after.topo.oriented);
+  EXPECT_EQ(after.topo.genus, 0);
+  EXPECT_NEAR(after.angle_min, before.angle_min, 1e-9);
+  EXPECT_GT(after.volume_mm3, 0);
 }
 
 }  // namespace

@@ -1,0 +1,201 @@
+#include "mesh/thin_triangles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+#include <vector>
+
+#include "mesh/quality.h"
+
+namespace mpumesh {
+namespace {
+
+uint64_t key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
+
+Eigen::Vector3d normal(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
+  return (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).normalized();
+}
+
+double min_angle(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
+  return triangle_min_angle_deg(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+}
+
+}  // namespace
+
+namespace {
+
+// One pass of collapses; returns how many.
+int64_t collapse_pass(TriangleMesh& mesh, const ThinTriangleOptions& opt) {
+  auto& tris = mesh.triangles;
+  const size_t nv = mesh.vertices.size();
+  std::vector<std::vector<uint32_t>> vf(nv);  // faces of each vertex
+  for (uint32_t f = 0; f < tris.size(); ++f)
+    for (uint32_t v : tris[f]) vf[v].push_back(f);
+  std::vector<char> locked(nv, 0), dead(tris.size(), 0);
+  const double cos_turn = std::cos(opt.max_dihedral_deg * M_PI / 180);
+  int64_t n = 0;
+  for (uint32_t f = 0; f < tris.size(); ++f) {
+    if (dead[f] || min_angle(mesh, tris[f]) >= opt.below_deg) continue;
+    const auto& t = tris[f];
+    double len[3];
+    for (int e = 0; e < 3; ++e) len[e] = (mesh.vertices[t[size_t((e + 1) % 3)]] - mesh.vertices[t[size_t(e)]]).norm();
+    const int e = int(std::min_element(len, len + 3) - len);
+    if (3 * len[e] > std::min(len[(e + 1) % 3], len[(e + 2) % 3])) continue;  // not a needle
+    uint32_t u = t[size_t(e)], v = t[size_t((e + 1) % 3)];
+    if (u < v) std::swap(u, v);  // keep the earlier vertex (a particle before a repair point)
+    if (locked[u] || locked[v]) continue;
+    // Link condition: the vertices adjacent to both are exactly the two opposite ones.
+    std::vector<uint32_t> nu, nvv, shared_faces;
+    for (uint32_t g : vf[u]) {
+      if (dead[g]) continue;
+      bool has_v = false;
+      for (uint32_t w : tris[g]) {
+        if (w == v) has_v = true;
+        if (w != u) nu.push_back(w);
+      }
+      if (has_v) shared_faces.push_back(g);
+    }
+    for (uint32_t g : vf[v])
+      if (!dead[g])
+        for (uint32_t w : tris[g])
+          if (w != v) nvv.push_back(w);
+    std::sort(nu.begin(), nu.end());
+    nu.erase(std::unique(nu.begin(), nu.end()), nu.end());
+    std::sort(nvv.begin(), nvv.end());
+    nvv.erase(std::unique(nvv.begin(), nvv.end()), nvv.end());
+    std::vector<uint32_t> common;
+    std::set_intersection(nu.begin(), nu.end(), nvv.begin(), nvv.end(), std::back_inserter(common));
+    if (shared_faces.size() != 2 || common.size() != 2) continue;
+    // The faces around u that stay must not turn.
+    bool ok = true;
+    for (uint32_t g : vf[u]) {
+      if (dead[g] || g == shared_faces[0] || g == shared_faces[1]) continue;
+      std::array<uint32_t, 3> moved = tris[g];
+      for (uint32_t& w : moved)
+        if (w == u) w = v;
+      const Eigen::Vector3d n_new = (mesh.vertices[moved[1]] - mesh.vertices[moved[0]])
+                                        .cross(mesh.vertices[moved[2]] - mesh.vertices[moved[0]]);
+      if (!(n_new.norm() > 0) || !(n_new.normalized().dot(normal(mesh, tris[g])) > cos_turn)) {
+        ok = false;
+        break;
+      }
+    }
+    if (!ok) continue;
+    for (uint32_t g : vf[u]) {
+      if (dead[g]) continue;
+      if (g == shared_faces[0] || g == shared_faces[1]) {
+        dead[g] = 1;
+        continue;
+      }
+      for (uint32_t& w : tris[g])
+        if (w == u) w = v;
+    }
+    for (uint32_t g : vf[u])
+      for (uint32_t w : tris[g]) locked[w] = 1;
+    for (uint32_t g : vf[v])
+      for (uint32_t w : tris[g]) locked[w] = 1;
+    ++n;
+  }
+  if (n) {
+    size_t m = 0;
+    for (size_t f = 0; f < tris.size(); ++f)
+      if (!dead[f]) tris[m++] = tris[f];
+    tris.resize(m);
+  }
+  return n;
+}
+
+// Drops vertices that no triangle uses, keeping the order of the rest.
+void drop_unused_vertices(TriangleMesh& mesh) {
+  std::vector<uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
+  for (const auto& t : mesh.triangles)
+    for (uint32_t v : t) remap[v] = 0;
+  uint32_t next = 0;
+  for (size_t v = 0; v < remap.size(); ++v)
+    if (remap[v] == 0) {
+      remap[v] = next;
+      mesh.vertices[next++] = mesh.vertices[v];
+    }
+  mesh.vertices.resize(next);
+  for (auto& t : mesh.triangles)
+    for (uint32_t& v : t) v = remap[v];
+}
+
+int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& surface_distance,
+                    const ThinTriangleOptions& opt);
+
+}  // namespace
+
+ThinTriangleStats remove_thin_triangles(TriangleMesh& mesh,
+                                        const std::function<double(const Eigen::Vector3d&)>& surface_distance,
+                                        const ThinTriangleOptions& opt) {
+  ThinTriangleStats st;
+  for (int pass = 0; pass < opt.max_passes; ++pass) {
+    const int64_t c = collapse_pass(mesh, opt);
+    st.collapses += c;
+    if (c == 0) break;
+  }
+  drop_unused_vertices(mesh);
+  st.flips = flip_passes(mesh, surface_distance, opt);
+  return st;
+}
+
+namespace {
+
+int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& surface_distance,
+                    const ThinTriangleOptions& opt) {
+  auto& tris = mesh.triangles;
+  // Faces of each edge (two on a manifold); rebuilt per pass, updated on each flip.
+  std::unordered_map<uint64_t, std::vector<uint32_t>> faces;
+  const double cos_dihedral = std::cos(opt.max_dihedral_deg * M_PI / 180);
+  int64_t flips = 0;
+  for (int pass = 0; pass < opt.max_passes; ++pass) {
+    faces.clear();
+    faces.reserve(tris.size() * 2);
+    for (uint32_t f = 0; f < tris.size(); ++f)
+      for (int e = 0; e < 3; ++e) faces[key(tris[f][size_t(e)], tris[f][size_t((e + 1) % 3)])].push_back(f);
+    int64_t pass_flips = 0;
+    for (uint32_t f = 0; f < tris.size(); ++f) {
+      if (min_angle(mesh, tris[f]) >= opt.below_deg) continue;
+      for (int e = 0; e < 3; ++e) {
+        const uint32_t a = tris[f][size_t(e)], b = tris[f][size_t((e + 1) % 3)], c = tris[f][size_t((e + 2) % 3)];
+        const auto it = faces.find(key(a, b));
+        if (it == faces.end() || it->second.size() != 2) continue;
+        const uint32_t g = it->second[0] == f ? it->second[1] : it->second[0];
+        // g runs b -> a (consistent orientation); d is its third vertex.
+        uint32_t d = UINT32_MAX;
+        for (int k = 0; k < 3; ++k)
+          if (tris[g][size_t(k)] == b && tris[g][size_t((k + 1) % 3)] == a) d = tris[g][size_t((k + 2) % 3)];
+        if (d == UINT32_MAX || d == c || faces.count(key(c, d))) continue;
+        const std::array<uint32_t, 3> t1{c, a, d}, t2{d, b, c};  // abc + bad -> cad + dbc
+        const double before = std::min(min_angle(mesh, tris[f]), min_angle(mesh, tris[g]));
+        const double after = std::min(min_angle(mesh, t1), min_angle(mesh, t2));
+        if (after <= before + 1e-9) continue;
+        const Eigen::Vector3d n_old = (normal(mesh, tris[f]) + normal(mesh, tris[g])).normalized();
+        const Eigen::Vector3d n1 = normal(mesh, t1), n2 = normal(mesh, t2);
+        if (!(n1.dot(n2) > cos_dihedral && n1.dot(n_old) > cos_dihedral && n2.dot(n_old) > cos_dihedral)) continue;
+        if (!(surface_distance(0.5 * (mesh.vertices[c] + mesh.vertices[d])) <= opt.max_offset_mm)) continue;
+        // Flip: update the edge map for the four outer edges and the new one.
+        auto replace = [&](uint32_t u, uint32_t v, uint32_t from, uint32_t to) {
+          for (uint32_t& x : faces[key(u, v)])
+            if (x == from) x = to;
+        };
+        faces.erase(key(a, b));
+        tris[f] = t1;
+        tris[g] = t2;
+        replace(b, c, f, g);  // bc now in t2 (g)
+        replace(a, d, g, f);  // ad now in t1 (f)
+        faces[key(c, d)] = {f, g};
+        ++pass_flips;
+        break;  // f changed; its other edges wait for the next pass
+      }
+    }
+    flips += pass_flips;
+    if (pass_flips == 0) break;
+  }
+  return flips;
+}
+
+}  // namespace
+
+}  // namespace mpumesh

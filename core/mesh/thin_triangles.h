@@ -1,0 +1,38 @@
+// Cleanup of the restricted Delaunay mesh's few thin triangles, which sit next to the
+// triangulation's repair points (a repair point close to a particle makes a needle):
+// - collapse: the shortest edge uv of a triangle under `below_deg` whose other edges are
+//   at least three times longer merges u into v (u the later vertex: a repair point before
+//   a particle), when the link condition holds (u and v share exactly the two opposite
+//   vertices, so the mesh stays manifold) and no triangle around u turns by more than
+//   max_dihedral_deg;
+// - flip: an edge ab shared by abc and bad becomes cd when that raises the smaller of the
+//   two triangles' minimum angles, cd is no edge yet, the quad is nearly flat (normals
+//   within max_dihedral_deg) and the new edge's midpoint lies within max_offset_mm of the
+//   surface (`surface_distance`).
+// Orientation is kept; vertices left unused are removed.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <functional>
+
+#include "mesh/triangle_mesh.h"
+
+namespace mpumesh {
+
+struct ThinTriangleOptions {
+  double below_deg = 20;
+  double max_dihedral_deg = 20;
+  double max_offset_mm = 0.05;
+  int max_passes = 10;
+};
+
+struct ThinTriangleStats {
+  int64_t flips = 0, collapses = 0;
+};
+
+ThinTriangleStats remove_thin_triangles(TriangleMesh& mesh,
+                                        const std::function<double(const Eigen::Vector3d&)>& surface_distance,
+                                        const ThinTriangleOptions& opt = {});
+
+}  // namespace mpumesh
