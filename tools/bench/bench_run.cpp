@@ -169,19 +169,19 @@ int main(int argc, char** argv) {
   for (size_t i = 0; i < rows.size(); ++i) measure(rows[i], mc_mesh, i < 2);
 
   std::printf("\n%-16s %9s %8s %6s %5s %6s %6s %8s %7s %7s %7s %6s %7s %7s %7s %8s\n", "mesh", "triangles", "time s",
-              "closed", "manif", "genus", "comps", "self-int", "minang", "%<30", "%<15", "RR", "dihed", "mean-d",
+              "closed", "manif", "genus", "comps", "self-int", "minang", "%<30", "%<20", "RR", "dihed", "mean-d",
               "p99 to", "p99 from");
   for (const Row& r : rows) {
     const Quality& q = r.q;
-    // % of triangles under 15 degrees is not kept by Quality; under 10 and 20 are.
     std::printf("%-16s %9lld %8.2f %6s %5s %6lld %6lld %8lld %7.2f %7.2f %7.2f %6.3f %7.2f %7.3f %7.3f %8.3f\n",
                 r.name.c_str(), (long long)q.topo.triangles, r.seconds, q.topo.closed ? "yes" : "no",
                 q.topo.manifold ? "yes" : "no", (long long)q.topo.genus, (long long)q.topo.components,
                 (long long)q.self_intersections, q.angle_min, q.pct_angle_below[2], q.pct_angle_below[1],
                 q.radius_ratio_mean, q.dihedral_mean, r.mean_to_mc, r.p99_to_mc, r.p99_from_mc);
   }
-  std::printf("(%%<15 column: %% of triangles under 20 degrees; min angle in degrees; RR mean radius ratio; dihed "
-              "mean dihedral angle in degrees; distances in mm to and from the marching-cubes surface)\n");
+  std::printf("(minang: smallest angle, degrees; %%<30, %%<20: %% of triangles whose smallest angle is under 30, 20 "
+              "degrees; RR: mean radius ratio; dihed: mean dihedral angle, degrees; mean-d, p99 to: distance to the "
+              "marching-cubes surface, p99 from: from it, mm)\n");
   for (const Row& r : rows)
     if (r.bones) std::printf("%s: %lld of %lld bones missing\n", r.name.c_str(), (long long)r.missing_bones, (long long)r.bones);
   std::printf("\ntime ours / CGAL Mesh_3: %.2f; triangles ours / CGAL: %.2f\n", t_ours / cg.seconds,
