@@ -153,6 +153,19 @@ TEST(Cli, RunRemeshesASurfaceMesh) {
   EXPECT_TRUE(tj["closed"].get<bool>());
   EXPECT_TRUE(tj["oriented_manifold"].get<bool>());
   EXPECT_EQ(tj["particles"].get<int64_t>(), read_point_cloud(dir + "/particles.ply").size());
+  // Without --points the particles are seeded from the surface's own leaf centres.
+  const Result sr = run("sample " + dir + "/s.mpu --particles 800 -o " + dir + "/p2.xyz --backend cpu --json");
+  ASSERT_EQ(sr.code, 0) << sr.out;
+  const auto sj = nlohmann::json::parse(sr.out);
+  EXPECT_NEAR(sj["particles"].get<double>(), 800, 200);
+  EXPECT_EQ(sj["particles"].get<int64_t>(), read_point_cloud(dir + "/p2.xyz").size());
+  // Absurd parameters and missing inputs fail before any work, leaving nothing.
+  expect_failure("sample " + dir + "/s.mpu --particles -5 -o " + dir + "/bad.ply", "--particles must be",
+                 dir + "/bad.ply");
+  expect_failure("run " + dir + "/in.stl --curvature-scale 9 -o " + dir + "/bad.ply", "--curvature-scale must be",
+                 dir + "/bad.ply");
+  expect_failure("triangulate " + dir + "/s.mpu " + dir + "/missing.ply -o " + dir + "/bad.ply", "missing.ply",
+                 dir + "/bad.ply");
 }
 
 TEST(Cli, ErrorsNameTheFileAndLeaveNothing) {
