@@ -40,7 +40,7 @@ void main() {
   if (!ok || !(g > 0.0) || s.leaves == 0u) {
     pos[i] = vec4(x, sigma);
     normal[i] = vec4(0.0, 0.0, 1.0, uintBitsToFloat(0x7fc00000u));  // lost
-    curv[i] = vec4(0.0);
+    if (pc.curvature != 0u) curv[i] = vec4(0.0);
     return;
   }
   vec3 step = -s.f / g2 * s.g;
@@ -48,5 +48,5 @@ void main() {
   if (len > sigma) step *= sigma / len;
   pos[i] = vec4(x + step, sigma);
   normal[i] = vec4(s.g / g, (s.f + dot(s.g, step)) / g);
-  curv[i] = mpu_curvature(s.g, s.H);
+  if (pc.curvature != 0u) curv[i] = mpu_curvature(s.g, s.H);
 }

@@ -20,15 +20,20 @@ void ParticleState::resize(size_t n) {
   speed.resize(n, 0.0);
 }
 
-ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double cell) {
+ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double cell,
+                                 const std::vector<uint8_t>* member) {
   MPUMESH_ASSERT(cell > 0 && std::isfinite(cell), "particle grid cell must be positive");
+  auto in = [&](size_t i) { return !member || (*member)[i]; };
   ParticleGrid g;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
-  for (const auto& p : x) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
-  }
-  if (x.empty()) lo = hi = Eigen::Vector3d::Zero();
+  size_t count = 0;
+  for (size_t i = 0; i < x.size(); ++i)
+    if (in(i)) {
+      lo = lo.cwiseMin(x[i]);
+      hi = hi.cwiseMax(x[i]);
+      ++count;
+    }
+  if (count == 0) lo = hi = Eigen::Vector3d::Zero();
   g.origin = lo;
   // At most 1024 cells a side: a wider cell only costs extra distance tests.
   cell = std::max(cell, (hi - lo).maxCoeff() / 1023.0);
@@ -39,8 +44,9 @@ ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double c
     cells *= g.dims[size_t(d)];
   }
   g.start.assign(cells + 1, 0);
-  g.cell_of.resize(x.size());
+  g.cell_of.assign(x.size(), UINT32_MAX);
   for (size_t i = 0; i < x.size(); ++i) {
+    if (!in(i)) continue;
     uint32_t c[3];
     for (int d = 0; d < 3; ++d)
       c[d] = uint32_t(std::clamp((x[i][d] - lo[d]) / cell, 0.0, double(g.dims[size_t(d)] - 1)));
@@ -48,19 +54,38 @@ ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double c
     ++g.start[g.cell_of[i] + 1];
   }
   for (uint64_t c = 0; c < cells; ++c) g.start[c + 1] += g.start[c];
-  g.order.resize(x.size());
+  g.order.resize(count);
   std::vector<uint32_t> fill(g.start.begin(), g.start.end() - 1);
-  for (size_t i = 0; i < x.size(); ++i) g.order[fill[g.cell_of[i]]++] = uint32_t(i);
+  for (size_t i = 0; i < x.size(); ++i)
+    if (in(i)) g.order[fill[g.cell_of[i]]++] = uint32_t(i);
   return g;
 }
 
-double interaction_range(const ParticleState& st, const StepParams& p) {
+ParticleGrids build_particle_grids(const ParticleState& st, const StepParams& p) {
+  ParticleGrids g;
+  const size_t n = st.size();
+  std::vector<double> sig(st.sigma);
   double smax = 0;
-  for (double s : st.sigma) smax = std::max(smax, s);
-  return p.cutoff * smax;
+  for (double v : sig) smax = std::max(smax, v);
+  if (n == 0) {
+    g.small = build_particle_grid(st.x, 1.0);
+    g.large = g.small;
+    return g;
+  }
+  const size_t q = std::min(n - 1, size_t(0.95 * double(n)));
+  std::nth_element(sig.begin(), sig.begin() + ptrdiff_t(q), sig.end());
+  g.sigma_split = sig[q];
+  std::vector<uint8_t> small(n), large(n);
+  for (size_t i = 0; i < n; ++i) {
+    small[i] = st.sigma[i] <= g.sigma_split;
+    large[i] = !small[i];
+  }
+  g.small = build_particle_grid(st.x, p.cutoff * g.sigma_split, &small);
+  g.large = build_particle_grid(st.x, p.cutoff * std::max(smax, g.sigma_split), &large);
+  return g;
 }
 
-void repulsion_step(ParticleState& st, const ParticleGrid& grid, const StepParams& p,
+void repulsion_step(ParticleState& st, const ParticleGrids& grids, const StepParams& p,
                     std::vector<Eigen::Vector3d>& x_new, std::vector<double>& sigma_new) {
   const size_t n = st.size();
   x_new.resize(n);
@@ -68,38 +93,52 @@ void repulsion_step(ParticleState& st, const ParticleGrid& grid, const StepParam
   st.energy.resize(n);
   st.speed.resize(n);
   const double c2 = p.cutoff * p.cutoff;
+  // Visit particles in cell order, for the cache: the small ones, then the large.
+  std::vector<uint32_t> visit(grids.small.order);
+  visit.insert(visit.end(), grids.large.order.begin(), grids.large.order.end());
+  MPUMESH_ASSERT(visit.size() == n, "particle grids must hold every particle once");
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t o = r.begin(); o != r.end(); ++o) {
-      const uint32_t i = grid.order[o];  // in cell order, for the cache
+      const uint32_t i = visit[o];
       const Eigen::Vector3d xi = st.x[i];
       const double si = st.sigma[i], inv_si2 = 1.0 / (si * si);
-      const uint32_t cell = grid.cell_of[i];
-      const int64_t cx = cell % grid.dims[0], cy = (cell / grid.dims[0]) % grid.dims[1],
-                    cz = cell / (uint64_t(grid.dims[0]) * grid.dims[1]);
       double E = 0, dE = 0, Dx = 0, Dy = 0, Dz = 0, stiff = 0;
-      for (int64_t z = std::max<int64_t>(cz - 1, 0); z <= std::min<int64_t>(cz + 1, grid.dims[2] - 1); ++z)
-        for (int64_t y = std::max<int64_t>(cy - 1, 0); y <= std::min<int64_t>(cy + 1, grid.dims[1] - 1); ++y) {
-          const int64_t row = int64_t(grid.dims[0]) * (y + int64_t(grid.dims[1]) * z);
-          const int64_t x0 = std::max<int64_t>(cx - 1, 0), x1 = std::min<int64_t>(cx + 1, grid.dims[0] - 1);
-          for (uint32_t k = grid.start[size_t(row + x0)]; k < grid.start[size_t(row + x1 + 1)]; ++k) {
-            const uint32_t j = grid.order[k];
-            const double sj = st.sigma[j], inv_sj2 = 1.0 / (sj * sj);
-            const double rx = xi.x() - st.x[j].x(), ry = xi.y() - st.x[j].y(), rz = xi.z() - st.x[j].z();
-            const double r2 = rx * rx + ry * ry + rz * rz;
-            // Each term cut at its own particle's cutoff; j == i gives r = 0 and adds
-            // 2μ to E, which is taken off below (branchless here).
-            const double eij = r2 < c2 * si * si ? p.mu * std::exp(-0.5 * r2 * inv_si2) : 0.0;
-            const double eji = r2 < c2 * sj * sj ? p.mu * std::exp(-0.5 * r2 * inv_sj2) : 0.0;
-            E += eij + eji;
-            dE += r2 * inv_si2 / si * eij;
-            const double a = eij * inv_si2 + eji * inv_sj2;
-            Dx += rx * a;
-            Dy += ry * a;
-            Dz += rz * a;
-            // -∂(r a)/∂r along r: the pair's radial stiffness (positive beyond r = σ).
-            stiff += std::max(r2 * (eij * inv_si2 * inv_si2 + eji * inv_sj2 * inv_sj2) - a, 0.0);
-          }
+      // Every j within `reach` of x_i in grid g.
+      auto gather = [&](const ParticleGrid& g, double reach) {
+        int64_t lo[3], hi[3];
+        for (int d = 0; d < 3; ++d) {
+          const double u = (xi[d] - g.origin[d]) / g.cell, span = reach / g.cell;
+          lo[d] = std::max<int64_t>(int64_t(std::floor(u - span)), 0);
+          hi[d] = std::min<int64_t>(int64_t(std::floor(u + span)), int64_t(g.dims[size_t(d)]) - 1);
+          if (lo[d] > hi[d]) return;
         }
+        for (int64_t z = lo[2]; z <= hi[2]; ++z)
+          for (int64_t y = lo[1]; y <= hi[1]; ++y) {
+            const int64_t row = int64_t(g.dims[0]) * (y + int64_t(g.dims[1]) * z);
+            for (uint32_t k = g.start[size_t(row + lo[0])]; k < g.start[size_t(row + hi[0] + 1)]; ++k) {
+              const uint32_t j = g.order[k];
+              const double sj = st.sigma[j], inv_sj2 = 1.0 / (sj * sj);
+              const double rx = xi.x() - st.x[j].x(), ry = xi.y() - st.x[j].y(), rz = xi.z() - st.x[j].z();
+              const double r2 = rx * rx + ry * ry + rz * rz;
+              // Each term cut at its own particle's cutoff; j == i gives r = 0 and adds
+              // 2μ to E, which is taken off below (branchless here).
+              const double eij = r2 < c2 * si * si ? p.mu * std::exp(-0.5 * r2 * inv_si2) : 0.0;
+              const double eji = r2 < c2 * sj * sj ? p.mu * std::exp(-0.5 * r2 * inv_sj2) : 0.0;
+              E += eij + eji;
+              dE += r2 * inv_si2 / si * eij;
+              const double a = eij * inv_si2 + eji * inv_sj2;
+              Dx += rx * a;
+              Dy += ry * a;
+              Dz += rz * a;
+              // -∂(r a)/∂r along r: the pair's radial stiffness (positive beyond r = σ).
+              stiff += std::max(r2 * (eij * inv_si2 * inv_si2 + eji * inv_sj2 * inv_sj2) - a, 0.0);
+            }
+          }
+      };
+      // A small j interacts within cutoff·max(σ_i, σ_split), a large one within its own
+      // cutoff·σ_j, which the large grid's cells cover.
+      gather(grids.small, p.cutoff * std::max(si, grids.sigma_split));
+      gather(grids.large, grids.large.cell);
       E -= 2 * p.mu;
       const Eigen::Vector3d D = si * si * Eigen::Vector3d(Dx, Dy, Dz);
       const Eigen::Vector3d& nrm = st.normal[i];
@@ -137,7 +176,7 @@ bool newton_project(const mpu::MpuSurface& s, Eigen::Vector3d& x, int steps, dou
   return true;
 }
 
-void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p) {
+void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p, bool with_curvature) {
   const size_t n = st.size();
   st.normal.resize(n);
   st.distance.resize(n);
@@ -147,9 +186,10 @@ void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams&
       Eigen::Vector3d x = st.x[i];
       const double cap = st.sigma[i];
       const bool ok = newton_project(s, x, p.newton_steps - 1, cap);
-      // The last Newton step takes its f and ∇f from the full evaluation, which also gives
-      // the normal and the curvature: one evaluation per particle and iteration by default.
-      const mpu::Sample e = mpu::evaluate(s, x);
+      // The last Newton step takes its f and ∇f from the evaluation that also gives the
+      // normal (and the Hessian, for the curvature, when asked): one evaluation per
+      // particle and iteration by default.
+      const mpu::Sample e = with_curvature ? mpu::evaluate(s, x) : mpu::evaluate_fg(s, x);
       const double g2 = e.g.squaredNorm(), g = std::sqrt(g2);
       if (!ok || !(g > 0) || e.leaves == 0) {
         st.x[i] = x;
@@ -164,7 +204,7 @@ void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams&
       st.normal[i] = e.g / g;
       // The linearised f / |∇f| after the step: 0 unless the step was capped.
       st.distance[i] = (e.f + e.g.dot(step)) / g;
-      st.curv[i] = mpu::curvature(e.g, e.H);
+      if (with_curvature) st.curv[i] = mpu::curvature(e.g, e.H);
     }
   });
 }
@@ -173,11 +213,11 @@ void particle_iterations(const mpu::MpuSurface& s, ParticleState& st, const Step
   std::vector<Eigen::Vector3d> x_new;
   std::vector<double> sigma_new;
   for (int it = 0; it < iterations; ++it) {
-    const ParticleGrid grid = build_particle_grid(st.x, interaction_range(st, p));
-    repulsion_step(st, grid, p, x_new, sigma_new);
+    const ParticleGrids grids = build_particle_grids(st, p);
+    repulsion_step(st, grids, p, x_new, sigma_new);
     st.x.swap(x_new);
     st.sigma.swap(sigma_new);
-    project_step(s, st, p);
+    project_step(s, st, p, it + 1 == iterations);
   }
 }
 

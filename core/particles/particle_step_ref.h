@@ -17,9 +17,11 @@
 //      factor sigma_change either way and σ_i at sigma_cap (both steps linearly implicit,
 //      see repulsion_step);
 //   3. projection: newton_steps Newton steps x -= f ∇f / |∇f|² (each capped at σ_i), the
-//      last one from a full evaluation (f, ∇f, H) that also gives the normal and the
-//      curvature (Kindlmann) for the next iteration and the weights; the distance kept is
-//      the linearised f / |∇f| after that step (0 unless capped).
+//      last one from the evaluation that also gives the normal for the next iteration;
+//      the distance kept is the linearised f / |∇f| after that step (0 unless capped).
+//      The curvature (Kindlmann, which needs the Hessian) is measured on the last
+//      iteration of a batch only: the weights use it between batches, and leaving H out
+//      of the other iterations' evaluations saves about a third of their cost.
 // The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
 // particle's target radius instead (particle_population.h), which is the reading that
 // makes high curvature denser (see DESIGN.md): scaling E_i and Ê alike would change the
@@ -66,9 +68,8 @@ struct ParticleState {
   void resize(size_t n);
 };
 
-// Particles sorted by cell of a uniform grid (counting sort): the CPU twin of
-// particle_grid_*.comp. cell >= the interaction range, so neighbours lie in the 27
-// cells around a particle's own.
+// Particles sorted by cell of a uniform grid (counting sort), as particle_grid_*.comp
+// builds it on the GPU.
 struct ParticleGrid {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   double cell = 1;
@@ -77,17 +78,28 @@ struct ParticleGrid {
   std::vector<uint32_t> order;  // particle indices by cell
   std::vector<uint32_t> cell_of;
 };
-ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double cell);
+// Of the particles with member[i] set (all when null); cells of at least `cell`.
+ParticleGrid build_particle_grid(const std::vector<Eigen::Vector3d>& x, double cell,
+                                 const std::vector<uint8_t>* member = nullptr);
 
-// The interaction range of the current state: cutoff · max σ.
-double interaction_range(const ParticleState& st, const StepParams& p);
+// The CPU path's two grids: where σ varies several-fold (the sample CT), one grid with
+// cells of cutoff · max σ holds hundreds of particles per cell, and most distance tests
+// fail. So the 95% smallest σ go into a grid of cells of cutoff · σ_split (their 95th
+// percentile), the rest into one of cutoff · max σ. The GPU keeps one grid.
+struct ParticleGrids {
+  ParticleGrid small, large;
+  double sigma_split = 0;
+};
+ParticleGrids build_particle_grids(const ParticleState& st, const StepParams& p);
 
-// Step 2 for every particle: writes x_new, sigma_new and st.energy, st.speed.
-void repulsion_step(ParticleState& st, const ParticleGrid& grid, const StepParams& p,
+// Step 2 for every particle: writes x_new, sigma_new and st.energy, st.speed. The pairs
+// and formulas are those of particle_repulsion.comp; only the summation order differs.
+void repulsion_step(ParticleState& st, const ParticleGrids& grids, const StepParams& p,
                     std::vector<Eigen::Vector3d>& x_new, std::vector<double>& sigma_new);
 
-// Step 3: moves each x onto f = 0 and measures normal, distance and curvature there.
-void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p);
+// Step 3: moves each x onto f = 0 and measures normal and distance there, and the
+// curvature when `with_curvature`.
+void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p, bool with_curvature = true);
 
 // Pulls one point onto f = 0 by up to `steps` Newton steps (each move capped at
 // `max_move` mm); returns false when ∇f vanishes on the way.

@@ -203,7 +203,7 @@ std::vector<uint8_t> decide_population(const ParticleState& st, const SampleOpti
 }
 
 double local_thickness(const mpu::MpuSurface& s, const Eigen::Vector3d& x, const Eigen::Vector3d& n, double max_dist) {
-  constexpr int kSteps = 6;
+  constexpr int kSteps = 4;
   double best = INFINITY;
   for (const double dir : {-1.0, 1.0}) {
     const double step = std::min(best, max_dist) / kSteps;

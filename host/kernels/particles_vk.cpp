@@ -116,6 +116,7 @@ void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st
     rec.barrier();
     rec.dispatch(repulsion_, rep_bufs, &push, grid, "particle_repulsion");
     rec.barrier();
+    push.curvature = it + 1 == iterations ? 1u : 0u;  // the curvature of the batch's end
     rec.dispatch(project_, proj_bufs, &push, grid, "particle_project");
     rec.barrier();
   }

@@ -6,7 +6,7 @@
 //   pos     vec4 (x, y, z, σ)           the state
 //   pos_new vec4 (x', y', z', σ')       after repulsion, before projection
 //   normal  vec4 (n, d)                 ∇f/|∇f| and f/|∇f| after projection (d NaN: lost)
-//   curv    vec4 (κ1, κ2, K, H)         after projection
+//   curv    vec4 (κ1, κ2, K, H)         after projection, when push.curvature is set
 //   stats   vec4 (E, |ṗ|, 0, 0)         from repulsion
 // The neighbour grid: cell and rank (within its cell) per particle, start[cells + 1]
 // (counts, then their exclusive scan), order[] (particles by cell).
@@ -39,10 +39,11 @@ struct ParticlePush {
   uint gx, gy, gz;               // neighbour grid dims
   float dt, mu, desired_energy, rho, beta, phi, cutoff, max_move, sigma_change, sigma_cap;
   uint newton_steps;
+  uint curvature;  // 1: measure the curvature (last iteration of a batch)
 };
 ABI_END
 
 #ifdef __cplusplus
-static_assert(sizeof(mpumesh::abi::ParticlePush) == 112, "ParticlePush must match the GLSL push block");
+static_assert(sizeof(mpumesh::abi::ParticlePush) == 116, "ParticlePush must match the GLSL push block");
 #endif
 #endif
