@@ -6,6 +6,8 @@
 #include <CGAL/Surface_mesh_default_triangulation_3.h>
 #include <CGAL/make_surface_mesh.h>
 
+#include <tbb/parallel_for.h>
+
 #include <chrono>
 #include <queue>
 #include <unordered_map>
@@ -92,8 +94,26 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   // radius (a few micrometres on a head).
   const Eigen::Vector3d centre = 0.5 * (s.data_min + s.data_max);
   const double radius = 0.5 * (s.data_max - s.data_min).norm() * 1.1 + 1e-6;
-  Surface surface([&s](Point p) { return mpu::evaluate_f(s, Eigen::Vector3d(p.x(), p.y(), p.z())); },
-                  GT::Sphere_3(Point(centre.x(), centre.y(), centre.z()), radius * radius), 1e-5);
+  // f at every Voronoi vertex (finite cell's circumcentre), computed in parallel up
+  // front: the mesher's scan tests each Voronoi edge's two ends, and each vertex ends
+  // four edges. The oracle looks them up and evaluates only bisection points.
+  std::vector<Point> centres;
+  centres.reserve(tr.number_of_finite_cells());
+  for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c) centres.push_back(tr.dual(c));
+  std::vector<double> fc(centres.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i)
+      fc[i] = mpu::evaluate_f(s, Eigen::Vector3d(centres[i].x(), centres[i].y(), centres[i].z()));
+  });
+  std::unordered_map<Point, double> cache;
+  cache.reserve(centres.size());
+  for (size_t i = 0; i < centres.size(); ++i) cache.emplace(centres[i], fc[i]);
+  Surface surface(
+      [&s, &cache](Point p) {
+        const auto it = cache.find(p);
+        return it != cache.end() ? it->second : mpu::evaluate_f(s, Eigen::Vector3d(p.x(), p.y(), p.z()));
+      },
+      GT::Sphere_3(Point(centre.x(), centre.y(), centre.z()), radius * radius), 1e-5);
   // No refinement criterion: only the manifold repair adds points.
   CGAL::Surface_mesh_default_criteria_3<Tr> criteria(0.0, 1e30, 1e30);
   C2t3 c2t3(tr);
