@@ -150,11 +150,14 @@ Targets spacing_targets(const std::vector<double>& lambda, const std::vector<dou
   return t;
 }
 
-std::vector<double> thicknesses(const mpu::MpuSurface& s, const ParticleState& st, const std::vector<double>& max_dist) {
+// Each particle's local thickness, searched up to reach · lambda[i] (the spacing that
+// curvature alone would give it, over the thickness factor: a thicker plate binds nothing).
+std::vector<double> thicknesses(const mpu::MpuSurface& s, const ParticleState& st, const std::vector<double>& lambda,
+                                double reach) {
   std::vector<double> t(st.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, st.size(), 128), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i)
-      t[i] = std::isfinite(st.distance[i]) ? local_thickness(s, st.x[i], st.normal[i], max_dist[i]) : INFINITY;
+      t[i] = std::isfinite(st.distance[i]) ? local_thickness(s, st.x[i], st.normal[i], reach * lambda[i]) : INFINITY;
   });
   return t;
 }
@@ -308,7 +311,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     const double h0 = std::sqrt(inv / (kHexArea * double(opt.particles)));
     // count_for(h0) >= particles, and at most exp(2S) times that (the floor); bisect.
     const double hmax = h0 * std::exp(opt.curvature_scale);
-    thick = thicknesses(s, pool, std::vector<double>(pool.size(), hmax / opt.thickness_factor));
+    thick = thicknesses(s, pool, std::vector<double>(pool.size(), 1.0), hmax / opt.thickness_factor);
     double a = h0, b = hmax;
     if (count_for(b, thick) > double(opt.particles)) a = b;
     for (int it = 0; it < 40 && b > a * (1 + 1e-6); ++it) {
@@ -320,14 +323,10 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     // sampling gap: that would only add particles on detail the data do not hold.
     if (by_default && h < 0.5 * gap) {
       h = 0.5 * gap;
-      std::vector<double> md(pool.size());
-      for (size_t i = 0; i < pool.size(); ++i) md[i] = h * lambda[i] / opt.thickness_factor;
-      thick = thicknesses(s, pool, md);
+      thick = thicknesses(s, pool, lambda, h / opt.thickness_factor);
     }
   } else {
-    std::vector<double> md(pool.size());
-    for (size_t i = 0; i < pool.size(); ++i) md[i] = h * lambda[i] / opt.thickness_factor;
-    thick = thicknesses(s, pool, md);
+    thick = thicknesses(s, pool, lambda, h / opt.thickness_factor);
   }
 
   // 3. Seeds: a Poisson-disk subset of the pool at each point's own target spacing. The
@@ -401,11 +400,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     lambda = curvature_weights(st.curv, st.distance, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
     // Thickness for all every 4th update (it costs up to 12 evaluations a particle);
     // new particles get theirs when they are made.
-    if (update % 4 == 0) {
-      std::vector<double> md(st.size());
-      for (size_t i = 0; i < st.size(); ++i) md[i] = h * lambda[i] / opt.thickness_factor;
-      thickness = thicknesses(s, st, md);
-    }
+    if (update % 4 == 0) thickness = thicknesses(s, st, lambda, h / opt.thickness_factor);
     tg = spacing_targets(lambda, thickness, h, opt);
     for (size_t i = 0; i < st.size(); ++i) st.target[i] = tg.spacing[i] / kSpacingPerSigma;
     stats.thickness_bound = tg.thickness_bound;
@@ -461,9 +456,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
         kids.x.assign(st.x.begin() + ptrdiff_t(survivors), st.x.end());
         kids.normal.assign(st.normal.begin() + ptrdiff_t(survivors), st.normal.end());
         kids.distance.assign(kids.x.size(), 0.0);
-        std::vector<double> md(kids.x.size());
-        for (size_t k = 0; k < md.size(); ++k) md[k] = h * child_lambda[k] / opt.thickness_factor;
-        const std::vector<double> t = thicknesses(s, kids, md);
+        const std::vector<double> t = thicknesses(s, kids, child_lambda, h / opt.thickness_factor);
         std::copy(t.begin(), t.end(), thickness.begin() + ptrdiff_t(survivors));
       }
       stats.births += rec.births;
