@@ -174,7 +174,10 @@ int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::
         const Eigen::Vector3d n_old = (normal(mesh, tris[f]) + normal(mesh, tris[g])).normalized();
         const Eigen::Vector3d n1 = normal(mesh, t1), n2 = normal(mesh, t2);
         if (!(n1.dot(n2) > cos_dihedral && n1.dot(n_old) > cos_dihedral && n2.dot(n_old) > cos_dihedral)) continue;
-        if (!(surface_distance(0.5 * (mesh.vertices[c] + mesh.vertices[d])) <= opt.max_offset_mm)) continue;
+        // The new edge may lie off the surface by its sagitta, no more than the old one's.
+        const double old_off = surface_distance(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
+        if (!(surface_distance(0.5 * (mesh.vertices[c] + mesh.vertices[d])) <= std::max(opt.max_offset_mm, old_off)))
+          continue;
         // Flip: update the edge map for the four outer edges and the new one.
         auto replace = [&](uint32_t u, uint32_t v, uint32_t from, uint32_t to) {
           for (uint32_t& x : faces[key(u, v)])

@@ -7,8 +7,8 @@
 //   max_dihedral_deg;
 // - flip: an edge ab shared by abc and bad becomes cd when that raises the smaller of the
 //   two triangles' minimum angles, cd is no edge yet, the quad is nearly flat (normals
-//   within max_dihedral_deg) and the new edge's midpoint lies within max_offset_mm of the
-//   surface (`surface_distance`).
+//   within max_dihedral_deg) and the new edge's midpoint lies no farther from the surface
+//   (`surface_distance`) than the old edge's, or than max_offset_mm.
 // Orientation is kept; vertices left unused are removed.
 #pragma once
 
