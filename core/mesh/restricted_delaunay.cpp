@@ -90,8 +90,9 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   pts.reserve(points.size());
   for (const auto& p : points) pts.emplace_back(p.x(), p.y(), p.z());
   tr.insert(pts.begin(), pts.end());
-  // The bounding sphere holds the data box; the oracle's bisection stops at 1e-5 of its
-  // radius (a few micrometres on a head).
+  // The bounding sphere holds the data box; the oracle's bisection stops within 5 µm of
+  // f = 0 (its bound is relative to the sphere's radius). The crossings it finds place
+  // only the repair points; each halving is an evaluation of f, about half of them all.
   const Eigen::Vector3d centre = 0.5 * (s.data_min + s.data_max);
   const double radius = 0.5 * (s.data_max - s.data_min).norm() * 1.1 + 1e-6;
   // f at every Voronoi vertex (finite cell's circumcentre), computed in parallel up
@@ -113,7 +114,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
         const auto it = cache.find(p);
         return it != cache.end() ? it->second : mpu::evaluate_f(s, Eigen::Vector3d(p.x(), p.y(), p.z()));
       },
-      GT::Sphere_3(Point(centre.x(), centre.y(), centre.z()), radius * radius), 1e-5);
+      GT::Sphere_3(Point(centre.x(), centre.y(), centre.z()), radius * radius), 0.005 / radius);
   // No refinement criterion: only the manifold repair adds points.
   CGAL::Surface_mesh_default_criteria_3<Tr> criteria(0.0, 1e30, 1e30);
   C2t3 c2t3(tr);
