@@ -26,7 +26,7 @@ void main() {
   float sigma = pos_new[i].w;
   bool ok = true;
   for (uint k = 0u; k + 1u < pc.newton_steps; ++k) {
-    MpuSample s = mpu_evaluate(x);
+    MpuSample s = mpu_evaluate_opt(x, false);
     float g2 = dot(s.g, s.g);
     ok = ok && g2 > 0.0 && s.leaves > 0u;
     vec3 step = ok ? -s.f / g2 * s.g : vec3(0.0);
@@ -34,8 +34,9 @@ void main() {
     if (len > sigma) step *= sigma / len;
     x += step;
   }
-  // The last Newton step from the full evaluation, which also gives normal and curvature.
-  MpuSample s = mpu_evaluate(x);
+  // The last Newton step from the evaluation that also gives the normal, and the Hessian
+  // for the curvature on a batch's last iteration (as the CPU reference).
+  MpuSample s = mpu_evaluate_opt(x, pc.curvature != 0u);
   float g2 = dot(s.g, s.g), g = sqrt(g2);
   if (!ok || !(g > 0.0) || s.leaves == 0u) {
     pos[i] = vec4(x, sigma);

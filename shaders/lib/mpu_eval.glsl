@@ -12,7 +12,9 @@ struct MpuSample {
   uint leaves;
 };
 
-MpuSample mpu_evaluate(vec3 x) {
+// want_h false leaves the Hessian out (s.H stays 0): what Newton steps need. A uniform
+// value (a push constant or a literal), so the branches do not diverge.
+MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
   MpuSample s;
   s.f = pc.far_value;
   s.g = vec3(0.0);
@@ -61,29 +63,31 @@ MpuSample mpu_evaluate(vec3 x) {
     float gv = c0.z + c1.x * u + 2.0 * c1.y * v + c1.w * u2 + 2.0 * c2.x * uv + 3.0 * c2.y * v2 +
                c2.w * u2 * u + 2.0 * c3.x * u2 * v + 3.0 * c3.y * u * v2 + 4.0 * c3.z * v2 * v + c4.z * ww;
     float gw = c3.w + 2.0 * c4.x * ww + c4.y * u + c4.z * v;
-    float huu = 2.0 * c0.w + 6.0 * c1.z * u + 2.0 * c1.w * v + 12.0 * c2.z * u2 + 6.0 * c2.w * uv + 2.0 * c3.x * v2;
-    float huv = c1.x + 2.0 * c1.w * u + 2.0 * c2.x * v + 3.0 * c2.w * u2 + 4.0 * c3.x * uv + 3.0 * c3.y * v2;
-    float hvv = 2.0 * c1.y + 2.0 * c2.x * u + 6.0 * c2.y * v + 2.0 * c3.x * u2 + 6.0 * c3.y * uv + 12.0 * c3.z * v2;
     // World units: Q = R q, ∇Q = Mᵀ ∇q, HQ = Mᵀ Hq M / R (M's rows are fu, fv, fw; GLSL
     // matrices are column-major, so mat3(fu, fv, fw) is Mᵀ).
     mat3 Mt = mat3(fu.xyz, fv.xyz, fw.xyz);
     float Q = R * q;
     vec3 gQ = Mt * vec3(gu, gv, gw);
-    mat3 Hq = mat3(huu, huv, c4.y, huv, hvv, c4.z, c4.y, c4.z, 2.0 * c4.x);
-    mat3 HQ = Mt * Hq * transpose(Mt) * invR;
     if (!have_f0) {
       f0 = Q;
       have_f0 = true;
     }
     float Qs = Q - f0;
     vec3 gw3 = k1 * d;
-    mat3 Hw = mat3(k1) + k2 * outerProduct(d, d);
     N += w * Qs;
     D += w;
     gN += Qs * gw3 + w * gQ;
     gD += gw3;
-    HN += Qs * Hw + outerProduct(gw3, gQ) + outerProduct(gQ, gw3) + w * HQ;
-    HD += Hw;
+    if (want_h) {
+      float huu = 2.0 * c0.w + 6.0 * c1.z * u + 2.0 * c1.w * v + 12.0 * c2.z * u2 + 6.0 * c2.w * uv + 2.0 * c3.x * v2;
+      float huv = c1.x + 2.0 * c1.w * u + 2.0 * c2.x * v + 3.0 * c2.w * u2 + 4.0 * c3.x * uv + 3.0 * c3.y * v2;
+      float hvv = 2.0 * c1.y + 2.0 * c2.x * u + 6.0 * c2.y * v + 2.0 * c3.x * u2 + 6.0 * c3.y * uv + 12.0 * c3.z * v2;
+      mat3 Hq = mat3(huu, huv, c4.y, huv, hvv, c4.z, c4.y, c4.z, 2.0 * c4.x);
+      mat3 HQ = Mt * Hq * transpose(Mt) * invR;
+      mat3 Hw = mat3(k1) + k2 * outerProduct(d, d);
+      HN += Qs * Hw + outerProduct(gw3, gQ) + outerProduct(gQ, gw3) + w * HQ;
+      HD += Hw;
+    }
     s.leaves += 1u;
   }
   if (!(D > 0.0)) {
@@ -93,9 +97,11 @@ MpuSample mpu_evaluate(vec3 x) {
   float fs = N / D;
   s.f = f0 + fs;
   s.g = (gN - fs * gD) / D;
-  s.H = (HN - fs * HD - outerProduct(s.g, gD) - outerProduct(gD, s.g)) / D;
+  if (want_h) s.H = (HN - fs * HD - outerProduct(s.g, gD) - outerProduct(gD, s.g)) / D;
   return s;
 }
+
+MpuSample mpu_evaluate(vec3 x) { return mpu_evaluate_opt(x, true); }
 
 // Principal curvatures after Kindlmann et al. (2003): κ1, κ2, K, mean.
 vec4 mpu_curvature(vec3 g, mat3 H) {
