@@ -80,13 +80,6 @@ nlohmann::json sample_json(const particles::SampleOptions& o, const particles::S
           {"history", hist}};
 }
 
-// The particle steps on the chosen backend.
-particles::Stepper stepper(const mpu::MpuSurface& s, ComputeBackend& backend) {
-  return [&s, &backend](const particles::StepParams& p, particles::ParticleState& st, int n) {
-    backend.particle_iterations(s, st, p, n);
-  };
-}
-
 PointCloud particle_cloud(const particles::ParticleState& ps) {
   PointCloud c;
   c.positions = ps.x;
@@ -139,7 +132,7 @@ void add_sample_command(CLI::App& app, CommonOptions& common, std::function<void
       const vk::BackendChoice choice = open_backend(o->backend, common, progress);
       progress.begin("particles");
       particles::SampleStats st;
-      const particles::ParticleState ps = particles::sample_surface(s, candidates, o->sample, stepper(s, *choice.backend), &st);
+      const particles::ParticleState ps = particles::sample_surface(s, candidates, o->sample, *choice.backend, &st);
       progress.end();
       progress.begin("write particles");
       write_point_cloud(particle_cloud(ps), o->output);
@@ -275,7 +268,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       progress.begin("particles");
       particles::SampleStats sst;
       const particles::ParticleState ps =
-          particles::sample_surface(s, cloud.positions, o->sample, stepper(s, *choice.backend), &sst);
+          particles::sample_surface(s, cloud.positions, o->sample, *choice.backend, &sst);
       progress.end();
       progress.begin("triangulate");
       RestrictedDelaunayStats tst;

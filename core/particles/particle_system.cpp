@@ -9,6 +9,7 @@
 
 #include "common/error.h"
 #include "common/kd_tree.h"
+#include "compute/compute_backend.h"
 #include "particles/spacing_stats.h"
 
 namespace mpumesh::particles {
@@ -164,6 +165,13 @@ std::vector<double> thicknesses(const mpu::MpuSurface& s, const ParticleState& s
 
 }  // namespace
 
+StepParams batch_params(const StepParams& step, const ParticleState& st) {
+  StepParams p = step;
+  p.sigma_cap = 0;
+  for (size_t i = 0; i < st.size(); ++i) p.sigma_cap = std::max({p.sigma_cap, st.sigma[i], 2 * st.target[i]});
+  return p;
+}
+
 double hash01(uint32_t index, uint32_t iteration, uint32_t seed, uint32_t salt) {
   const uint32_t h = fmix(fmix(index * 0x9E3779B1u + salt) ^ fmix(iteration * 0x85ebca6bu + seed));
   return double(h >> 8) * (1.0 / 16777216.0);
@@ -236,7 +244,7 @@ std::vector<Eigen::Vector3d> leaf_candidates(const mpu::MpuSurface& s) {
 }
 
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
-                             const SampleOptions& opt_in, const Stepper& step, SampleStats* stats_out) {
+                             const SampleOptions& opt_in, ComputeBackend& backend, SampleStats* stats_out) {
   validate(opt_in);
   SampleOptions opt = opt_in;
   const bool by_default = opt.particles == 0 && opt.spacing == 0;
@@ -377,23 +385,14 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   const int64_t cap = opt.max_particles > 0 ? opt.max_particles : 8 * int64_t(st.size()) + 10000;
   stats.seconds_seed = seconds_since(t_seed);
 
-  // 4. Iterate; between batches update the weights and targets, split and kill. Within a
-  //    batch σ may grow to `factor` times its target (a particle past split_ratio splits
-  //    at the next update anyway) or stay at its current value if larger: that bounds
-  //    the interaction range for the batch.
-  auto batch_params = [&](double factor) {
-    StepParams sp = opt.step;
-    sp.sigma_cap = 0;
-    for (size_t i = 0; i < st.size(); ++i) sp.sigma_cap = std::max({sp.sigma_cap, st.sigma[i], factor * st.target[i]});
-    return sp;
-  };
+  // 4. Iterate; between batches update the weights and targets, split and kill.
   int it = 0, quiet_updates = 0, update = 0;
   bool final_batch = false;  // settled: one more batch to relax, without population changes
   while (it < opt.iterations) {
     const int batch = std::min(opt.population_every, opt.iterations - it);
     final_batch = final_batch || it + batch >= opt.iterations;
     const auto t_iter = Clock::now();
-    step(batch_params(2), st, batch);
+    backend.particle_iterations(s, st, batch_params(opt.step, st), batch);
     it += batch;
     stats.seconds_iterate += seconds_since(t_iter);
     const auto t_pop = Clock::now();

@@ -22,12 +22,15 @@
 #pragma once
 
 #include <cstdint>
-#include <functional>
 #include <string>
 #include <vector>
 
 #include "mpu/mpu_surface.h"
 #include "particles/particle_step_ref.h"
+
+namespace mpumesh {
+class ComputeBackend;
+}
 
 namespace mpumesh::particles {
 
@@ -70,11 +73,15 @@ struct SampleStats {
   std::vector<PopulationRecord> history;
 };
 
-// Runs `iterations` iterations of particle_step_ref.h on some backend.
-using Stepper = std::function<void(const StepParams&, ParticleState&, int iterations)>;
+// The step parameters for the next batch: within a batch σ may grow to twice its target
+// (a particle past split_ratio splits at the next update anyway) or stay at its current
+// value if larger; that cap bounds the interaction range for the batch.
+StepParams batch_params(const StepParams& step, const ParticleState& st);
 
+// The iterations run on `backend` (ComputeBackend::particle_iterations), in batches of
+// batch_params.
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
-                             const SampleOptions& opt, const Stepper& step, SampleStats* stats = nullptr);
+                             const SampleOptions& opt, ComputeBackend& backend, SampleStats* stats = nullptr);
 
 // Candidate seeds when no input points are at hand: the centres of the leaves that held
 // points.

@@ -5,6 +5,7 @@
 
 #include <cmath>
 
+#include "compute/cpu_backend.h"
 #include "mesh/quality.h"
 #include "mesh/topology.h"
 #include "mesh/restricted_delaunay.h"
@@ -17,10 +18,6 @@ namespace mpumesh {
 namespace {
 
 using particles::ParticleState;
-
-particles::Stepper cpu_stepper(const mpu::MpuSurface& s) {
-  return [&s](const particles::StepParams& p, ParticleState& st, int n) { particles::particle_iterations(s, st, p, n); };
-}
 
 struct ShapeRun {
   mpu::MpuSurface surface;
@@ -37,7 +34,8 @@ ShapeRun run_shape(const test::AnalyticShape& shape, int64_t count, bool dense =
   r.surface = mpu::fit_mpu(r.cloud, {});
   particles::SampleOptions o;
   o.particles = count;
-  r.st = particles::sample_surface(r.surface, r.cloud.positions, o, cpu_stepper(r.surface), &r.stats);
+  CpuBackend cpu;
+  r.st = particles::sample_surface(r.surface, r.cloud.positions, o, cpu, &r.stats);
   std::vector<double> absk;
   for (size_t i = 0; i < r.st.size(); ++i) {
     double K;
@@ -124,12 +122,13 @@ TEST(Particles, ThinPlateIsNotBridged) {
     shell.normals.push_back(-inner.normals[i]);  // outward of the shell: toward the centre
   }
   const mpu::MpuSurface s = mpu::fit_mpu(shell, {});
+  CpuBackend cpu;
   for (const double factor : {1.0, 100.0}) {
     particles::SampleOptions o;
     o.spacing = 4.0;
     o.thickness_factor = factor;
     particles::SampleStats st;
-    const ParticleState ps = particles::sample_surface(s, shell.positions, o, cpu_stepper(s), &st);
+    const ParticleState ps = particles::sample_surface(s, shell.positions, o, cpu, &st);
     RestrictedDelaunayStats rs;
     const TriangleMesh m = restricted_delaunay(s, ps.x, &rs);
     int64_t bridging = 0;

@@ -18,10 +18,6 @@ namespace {
 
 using particles::ParticleState;
 
-particles::Stepper stepper_of(const mpu::MpuSurface& s, ComputeBackend& b) {
-  return [&s, &b](const particles::StepParams& p, ParticleState& st, int n) { b.particle_iterations(s, st, p, n); };
-}
-
 struct Fitted {
   test::AnalyticShape shape;
   PointCloud cloud;
@@ -44,10 +40,8 @@ TEST(ParticlesVk, OneStepMatchesTheReference) {
   particles::SampleOptions o;
   o.particles = 3000;
   o.iterations = 10;
-  const ParticleState start = particles::sample_surface(f.surface, f.cloud.positions, o, stepper_of(f.surface, cpu));
-  particles::StepParams p = o.step;
-  p.sigma_cap = 0;
-  for (size_t i = 0; i < start.size(); ++i) p.sigma_cap = std::max({p.sigma_cap, start.sigma[i], 2 * start.target[i]});
+  const ParticleState start = particles::sample_surface(f.surface, f.cloud.positions, o, cpu);
+  const particles::StepParams p = particles::batch_params(o.step, start);
   ParticleState a = start, b = start;
   cpu.particle_iterations(f.surface, a, p, 1);
   gpu->particle_iterations(f.surface, b, p, 1);
@@ -86,8 +80,8 @@ TEST(ParticlesVk, WholeRunMatchesTheReference) {
   particles::SampleOptions o;
   o.particles = 3000;
   particles::SampleStats sa, sb;
-  const ParticleState a = particles::sample_surface(f.surface, f.cloud.positions, o, stepper_of(f.surface, cpu), &sa);
-  const ParticleState b = particles::sample_surface(f.surface, f.cloud.positions, o, stepper_of(f.surface, *gpu), &sb);
+  const ParticleState a = particles::sample_surface(f.surface, f.cloud.positions, o, cpu, &sa);
+  const ParticleState b = particles::sample_surface(f.surface, f.cloud.positions, o, *gpu, &sb);
   test::expect_no_validation_messages(*gpu);
   auto stats = [&](const ParticleState& st) {
     std::vector<double> absk;

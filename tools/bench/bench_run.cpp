@@ -137,11 +137,7 @@ int main(int argc, char** argv) {
   particles::SampleOptions po;
   po.particles = particles;
   particles::SampleStats pst;
-  ComputeBackend& be = *choice.backend;
-  const particles::ParticleState ps = particles::sample_surface(
-      surf, sp.cloud.positions, po,
-      [&](const particles::StepParams& p, particles::ParticleState& st, int n) { be.particle_iterations(surf, st, p, n); },
-      &pst);
+  const particles::ParticleState ps = particles::sample_surface(surf, sp.cloud.positions, po, *choice.backend, &pst);
   const double t_particles = sec_since(t);
   t = Clock::now();
   RestrictedDelaunayStats rst;
