@@ -118,7 +118,7 @@ Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt) {
   for (size_t f = 0; f < nf; ++f)
     for (int c = 0; c < 3; ++c) {
       uint32_t u = mesh.triangles[f][size_t(c)], v = mesh.triangles[f][size_t((c + 1) % 3)];
-      edges.push_back({(uint64_t(std::min(u, v)) << 32) | std::max(u, v), uint32_t(f)});
+      edges.push_back({edge_key(u, v), uint32_t(f)});
     }
   std::sort(edges.begin(), edges.end());
   std::vector<double> dihedral;

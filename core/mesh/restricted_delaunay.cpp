@@ -25,8 +25,6 @@ using GT = Tr::Geom_traits;
 using Point = GT::Point_3;
 using Surface = CGAL::Implicit_surface_3<GT, std::function<GT::FT(Point)>>;
 
-uint64_t edge_key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
-
 }  // namespace
 
 int64_t orient_components(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& outward) {

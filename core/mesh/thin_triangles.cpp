@@ -10,8 +10,6 @@
 namespace mpumesh {
 namespace {
 
-uint64_t key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
-
 Eigen::Vector3d normal(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
   return (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).normalized();
 }
@@ -19,10 +17,6 @@ Eigen::Vector3d normal(const TriangleMesh& m, const std::array<uint32_t, 3>& t) 
 double min_angle(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
   return triangle_min_angle_deg(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
 }
-
-}  // namespace
-
-namespace {
 
 // One pass of collapses; returns how many.
 int64_t collapse_pass(TriangleMesh& mesh, const ThinTriangleOptions& opt) {
@@ -153,20 +147,20 @@ int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::
     faces.clear();
     faces.reserve(tris.size() * 2);
     for (uint32_t f = 0; f < tris.size(); ++f)
-      for (int e = 0; e < 3; ++e) faces[key(tris[f][size_t(e)], tris[f][size_t((e + 1) % 3)])].push_back(f);
+      for (int e = 0; e < 3; ++e) faces[edge_key(tris[f][size_t(e)], tris[f][size_t((e + 1) % 3)])].push_back(f);
     int64_t pass_flips = 0;
     for (uint32_t f = 0; f < tris.size(); ++f) {
       if (min_angle(mesh, tris[f]) >= opt.below_deg) continue;
       for (int e = 0; e < 3; ++e) {
         const uint32_t a = tris[f][size_t(e)], b = tris[f][size_t((e + 1) % 3)], c = tris[f][size_t((e + 2) % 3)];
-        const auto it = faces.find(key(a, b));
+        const auto it = faces.find(edge_key(a, b));
         if (it == faces.end() || it->second.size() != 2) continue;
         const uint32_t g = it->second[0] == f ? it->second[1] : it->second[0];
         // g runs b -> a (consistent orientation); d is its third vertex.
         uint32_t d = UINT32_MAX;
         for (int k = 0; k < 3; ++k)
           if (tris[g][size_t(k)] == b && tris[g][size_t((k + 1) % 3)] == a) d = tris[g][size_t((k + 2) % 3)];
-        if (d == UINT32_MAX || d == c || faces.count(key(c, d))) continue;
+        if (d == UINT32_MAX || d == c || faces.count(edge_key(c, d))) continue;
         const std::array<uint32_t, 3> t1{c, a, d}, t2{d, b, c};  // abc + bad -> cad + dbc
         const double before = std::min(min_angle(mesh, tris[f]), min_angle(mesh, tris[g]));
         const double after = std::min(min_angle(mesh, t1), min_angle(mesh, t2));
@@ -180,15 +174,15 @@ int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::
           continue;
         // Flip: update the edge map for the four outer edges and the new one.
         auto replace = [&](uint32_t u, uint32_t v, uint32_t from, uint32_t to) {
-          for (uint32_t& x : faces[key(u, v)])
+          for (uint32_t& x : faces[edge_key(u, v)])
             if (x == from) x = to;
         };
-        faces.erase(key(a, b));
+        faces.erase(edge_key(a, b));
         tris[f] = t1;
         tris[g] = t2;
         replace(b, c, f, g);  // bc now in t2 (g)
         replace(a, d, g, f);  // ad now in t1 (f)
-        faces[key(c, d)] = {f, g};
+        faces[edge_key(c, d)] = {f, g};
         ++pass_flips;
         break;  // f changed; its other edges wait for the next pass
       }

@@ -56,7 +56,7 @@ Topology analyze_topology(const TriangleMesh& mesh) {
     for (int c = 0; c < 3; ++c) {
       uint32_t a = tri[size_t(c)], b = tri[size_t((c + 1) % 3)];
       used[a] = 1;
-      he.push_back({(uint64_t(std::min(a, b)) << 32) | std::max(a, b), a, uint32_t(f)});
+      he.push_back({edge_key(a, b), a, uint32_t(f)});
     }
   }
   t.vertices = std::count(used.begin(), used.end(), 1);

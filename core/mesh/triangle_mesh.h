@@ -14,4 +14,9 @@ struct TriangleMesh {
   std::vector<std::array<uint32_t, 3>> triangles;
 };
 
+// The undirected edge {a, b} as one 64-bit key (smaller index in the high half).
+inline uint64_t edge_key(uint32_t a, uint32_t b) {
+  return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
+}
+
 }  // namespace mpumesh
