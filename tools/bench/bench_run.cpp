@@ -7,7 +7,7 @@
 // missing: marching-cubes components of more than 100 triangles whose vertices lie
 // farther than 2 mm from the mesh, median). Ours runs on the backend `auto` picks.
 // Usage:
-//   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE]
+//   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -95,7 +95,7 @@ void measure(Row& r, const TriangleMesh& mc, bool self_intersections) {
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto]\n", argv[0]);
     return 2;
   }
   const std::string path = argv[1];
@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
               (long long)vol.dims[0], (long long)vol.dims[1], (long long)vol.dims[2], vol.spacing.x(), vol.spacing.y(),
               vol.spacing.z(), iso);
   CpuBackend cpu;
-  vk::BackendChoice choice = vk::make_backend("auto");
+  vk::BackendChoice choice = vk::make_backend(argc > 6 ? argv[6] : "auto");
   std::printf("ours on: %s%s\n", choice.backend->device().c_str(),
               choice.note.empty() ? "" : (" (" + choice.note + ")").c_str());
 

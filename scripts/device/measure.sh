@@ -1,0 +1,31 @@
+#!/bin/bash
+# Runs on a lent GPU machine (device tool), from the repository root, with .device/ and
+# .gl/ carried (scripts/device/bundle.sh makes .device/bundle.tar.xz). It checks the
+# shaders on the real driver (test_host with the validation layer on), then measures the
+# MPU evaluation throughput and the whole run against the peers, writing logs to $OUT.
+set -uo pipefail
+OUT=${OUT:-/tmp/out}; mkdir -p "$OUT"
+for f in .gl/*.deb; do dpkg -x "$f" /; done; ldconfig
+B=/tmp/bundle; mkdir -p $B && tar -C $B -xJf .device/bundle.tar.xz
+export LD_LIBRARY_PATH=$B/lib VK_LAYER_PATH=$B/layers
+icd=/usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json
+[ -f $icd ] && export VK_DRIVER_FILES=$icd __EGL_VENDOR_LIBRARY_FILENAMES=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+nvidia-smi -L; nproc; grep -m1 'model name' /proc/cpuinfo
+$B/bin/mpumesh devices
+ct=$B/Cranium.inv3
+step=${1:-all}
+if [[ $step == all || $step == tests ]]; then
+  MPUMESH_REQUIRE_VULKAN=1 MPUMESH_VALIDATION=1 $B/bin/test_host 2>&1 | tee "$OUT/test_host.log" | grep -E '^\[  (PASSED|FAILED|SKIPPED) |FAILED|tests ran'
+fi
+if [[ $step == all || $step == mpu ]]; then
+  $B/bin/mpumesh_bench_mpu $ct 226 ${MPU_QUERIES:-4000000} 5 2>&1 | tee "$OUT/bench_mpu.txt"
+fi
+if [[ $step == all || $step == run ]]; then
+  timer=""; [ -x /usr/bin/time ] && timer="/usr/bin/time -v"
+  for be in gpu cpu; do
+    $timer $B/bin/mpumesh run $ct --threshold 226 --particles 45000 --backend $be \
+      -o /tmp/ct_$be.ply --report "$OUT/run_$be.json" 2>"$OUT/run_$be.time" | tail -3
+    grep -E 'Elapsed|Maximum resident' "$OUT/run_$be.time"
+  done
+  $B/bin/mpumesh_bench_run $ct 226 45000 2.6 0.36 2>&1 | tee "$OUT/bench_run.txt"
+fi
