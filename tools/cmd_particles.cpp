@@ -11,11 +11,13 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "common/error.h"
+#include "compute/cpu_backend.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/point_io.h"
 #include "mesh/quality.h"
 #include "mesh/restricted_delaunay.h"
+#include "mesh/surface_attributes.h"
 #include "mpu/mpu_fit.h"
 #include "mpu/mpu_io.h"
 #include "mpu_cli.h"
@@ -172,7 +174,11 @@ void add_triangulate_command(CLI::App& app, CommonOptions& common, std::function
       progress.end();
       progress.begin("triangulate");
       RestrictedDelaunayStats st;
-      const TriangleMesh mesh = restricted_delaunay(s, p.positions, &st);
+      TriangleMesh mesh = restricted_delaunay(s, p.positions, &st);
+      progress.end();
+      progress.begin("curvature");
+      CpuBackend cpu;
+      attach_surface_attributes(mesh, s, cpu);
       progress.end();
       progress.begin("write mesh");
       write_mesh(mesh, o->output);
@@ -272,13 +278,16 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       progress.end();
       progress.begin("triangulate");
       RestrictedDelaunayStats tst;
-      const TriangleMesh mesh = restricted_delaunay(s, ps.x, &tst);
+      TriangleMesh mesh = restricted_delaunay(s, ps.x, &tst);
       progress.end();
       const Topology topo = analyze_topology(mesh);
       if (!topo.closed || !topo.oriented)
         throw InputError(fmt::format("{}: the triangulation is not a closed oriented manifold ({} border edges, {} "
                                      "non-manifold edges, {} non-manifold vertices); nothing written",
                                      o->input, topo.border_edges, topo.nonmanifold_edges, topo.nonmanifold_vertices));
+      progress.begin("curvature");
+      attach_surface_attributes(mesh, s, *choice.backend);
+      progress.end();
       progress.begin("write mesh");
       write_mesh(mesh, o->output);
       progress.end();

@@ -26,5 +26,7 @@ void add_polygonize_command(CLI::App& app, CommonOptions& common, std::function<
 void add_sample_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_triangulate_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_render_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_report_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 
 }  // namespace mpumesh::tools

@@ -135,7 +135,11 @@ TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vecto
   for (const auto& e : elems) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     int xi = -1, yi = -1, zi = -1, nxi = -1, nyi = -1, nzi = -1;
+    int ki[4] = {-1, -1, -1, -1};  // k1 k2 K H
+    static const char* const kCurvatureNames[4] = {"k1", "k2", "K", "H"};
     for (size_t i = 0; i < e.props.size(); ++i) {
+      for (int c = 0; c < 4; ++c)
+        if (e.props[i].name == kCurvatureNames[c] && e.props[i].list_count_type.empty()) ki[c] = int(i);
       if (e.props[i].name == "x") xi = int(i);
       if (e.props[i].name == "y") yi = int(i);
       if (e.props[i].name == "z") zi = int(i);
@@ -146,10 +150,13 @@ TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vecto
     if (is_vertex && (xi < 0 || yi < 0 || zi < 0)) throw InputError(name + ": PLY vertices lack x, y or z");
     if (is_vertex && normals && (nxi < 0 || nyi < 0 || nzi < 0))
       throw InputError(name + ": PLY vertices lack the normal nx, ny, nz");
+    const bool has_normals = nxi >= 0 && nyi >= 0 && nzi >= 0;
+    const bool has_curvature = ki[0] >= 0 && ki[1] >= 0 && ki[2] >= 0 && ki[3] >= 0;
     if (is_vertex) m.vertices.reserve(size_t(e.count));
     std::vector<int64_t> idx;
     for (int64_t r = 0; r < e.count; ++r) {
       Eigen::Vector3d v = Eigen::Vector3d::Zero(), nv = Eigen::Vector3d::Zero();
+      std::array<float, 4> kv{};
       for (size_t i = 0; i < e.props.size(); ++i) {
         const PlyProp& p = e.props[i];
         if (!p.list_count_type.empty()) {
@@ -170,11 +177,15 @@ TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vecto
           if (int(i) == nxi) nv.x() = x;
           if (int(i) == nyi) nv.y() = x;
           if (int(i) == nzi) nv.z() = x;
+          for (int c = 0; c < 4; ++c)
+            if (int(i) == ki[c]) kv[size_t(c)] = float(x);
         }
       }
       if (is_vertex) {
         m.vertices.push_back(v);
         if (normals) normals->push_back(nv);
+        if (has_normals) m.normals.push_back(nv.cast<float>());
+        if (has_curvature) m.curvature.push_back(kv);
       }
     }
   }
@@ -186,12 +197,23 @@ namespace {
 
 void write_ply(const TriangleMesh& m, std::ostream& os) {
   static_assert(std::endian::native == std::endian::little, "PLY writer assumes a little-endian host");
-  os << "ply\nformat binary_little_endian 1.0\ncomment mpumesh, units mm\n"
-     << "element vertex " << m.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n"
-     << "element face " << m.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& v : m.vertices) {
-    float f[3] = {float(v.x()), float(v.y()), float(v.z())};
-    os.write(reinterpret_cast<const char*>(f), sizeof f);
+  const bool normals = m.normals.size() == m.vertices.size() && !m.vertices.empty();
+  const bool curvature = m.curvature.size() == m.vertices.size() && !m.vertices.empty();
+  os << "ply\nformat binary_little_endian 1.0\ncomment mpumesh, units mm\n";
+  if (curvature) os << "comment k1 >= k2 principal curvatures (1/mm), K Gaussian (1/mm^2), H mean (1/mm)\n";
+  os << "element vertex " << m.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n";
+  if (normals) os << "property float nx\nproperty float ny\nproperty float nz\n";
+  if (curvature) os << "property float k1\nproperty float k2\nproperty float K\nproperty float H\n";
+  os << "element face " << m.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    const auto& v = m.vertices[i];
+    float f[10] = {float(v.x()), float(v.y()), float(v.z())};
+    size_t n = 3;
+    if (normals)
+      for (int c = 0; c < 3; ++c) f[n++] = m.normals[i][c];
+    if (curvature)
+      for (float k : m.curvature[i]) f[n++] = k;
+    os.write(reinterpret_cast<const char*>(f), std::streamsize(n * sizeof(float)));
   }
   for (const auto& t : m.triangles) {
     char rec[13];

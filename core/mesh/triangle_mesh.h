@@ -12,6 +12,12 @@ namespace mpumesh {
 struct TriangleMesh {
   std::vector<Eigen::Vector3d> vertices;
   std::vector<std::array<uint32_t, 3>> triangles;
+  // Optional per-vertex data, each either empty or one entry per vertex (written to and
+  // read from PLY): unit outward normals, and the curvature of the surface the mesh was
+  // made from: k1 >= k2 (1/mm), Gaussian K (1/mm^2) and mean H (1/mm). Code that changes
+  // the vertices drops them; they are attached last (mesh/surface_attributes.h).
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<std::array<float, 4>> curvature;
 };
 
 // The undirected edge {a, b} as one 64-bit key (smaller index in the high half).

@@ -78,6 +78,10 @@ int compute_family(VkPhysicalDevice pd) {
   vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
   std::vector<VkQueueFamilyProperties> q(n);
   vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, q.data());
+  // A family that also draws, where there is one, so that the renderer shares the queue.
+  const VkQueueFlags both = VK_QUEUE_COMPUTE_BIT | VK_QUEUE_GRAPHICS_BIT;
+  for (uint32_t i = 0; i < n; ++i)
+    if ((q[i].queueFlags & both) == both) return int(i);
   for (uint32_t i = 0; i < n; ++i)
     if (q[i].queueFlags & VK_QUEUE_COMPUTE_BIT) return int(i);
   return -1;
@@ -179,6 +183,7 @@ Context::Context(const ContextOptions& opt) {
     std::vector<VkQueueFamilyProperties> qf(nq);
     vkGetPhysicalDeviceQueueFamilyProperties(physical_, &nq, qf.data());
     timestamps_ = qf[family].timestampValidBits > 0 && props.limits.timestampComputeAndGraphics;
+    graphics_ = (qf[family].queueFlags & VK_QUEUE_GRAPHICS_BIT) != 0;
     const float priority = 1.0f;
     VkDeviceQueueCreateInfo qi{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
     qi.queueFamilyIndex = family;

@@ -48,6 +48,8 @@ class Context {
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
   double timestamp_period_ns() const { return timestamp_period_; }
   bool timestamps_supported() const { return timestamps_; }
+  // The queue also takes graphics work (the offscreen renderer needs it).
+  bool graphics_supported() const { return graphics_; }
   bool validation_enabled() const { return validation_; }
 
   uint32_t memory_type(uint32_t type_bits, VkMemoryPropertyFlags want) const;
@@ -72,6 +74,7 @@ class Context {
   VkPhysicalDeviceMemoryProperties mem_props_{};
   double timestamp_period_ = 1.0;
   bool timestamps_ = false;
+  bool graphics_ = false;
   bool validation_ = false;
   mutable std::mutex messages_mutex_;
   std::vector<std::string> messages_;

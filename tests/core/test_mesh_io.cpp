@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "io/mesh_io.h"
 #include "io/read_file.h"
+#include "mesh/surface_attributes.h"
 #include "test_support.h"
 
 namespace mpumesh {
@@ -36,6 +37,45 @@ TEST_P(MeshRoundTrip, WritesAndReadsBack) {
   EXPECT_EQ(entries, 1);
 }
 INSTANTIATE_TEST_SUITE_P(Formats, MeshRoundTrip, ::testing::Values(".ply", ".stl", ".obj", ".off", ".PLY"));
+
+TEST(MeshIo, PlyCarriesNormalsAndCurvature) {
+  TriangleMesh m = test::icosphere(10, 2);
+  estimate_mesh_curvature(m);
+  const std::string path = test::temp_dir("attr") + "/mesh.ply";
+  write_mesh(m, path);
+  const TriangleMesh r = read_mesh(path);
+  ASSERT_EQ(r.normals.size(), m.vertices.size());
+  ASSERT_EQ(r.curvature.size(), m.vertices.size());
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    EXPECT_LT((r.normals[i] - m.normals[i]).norm(), 1e-6f);
+    for (size_t c = 0; c < 4; ++c) EXPECT_EQ(r.curvature[i][c], m.curvature[i][c]);
+  }
+  // Without them the file has neither (and other formats never carry them).
+  TriangleMesh plain = m;
+  plain.normals.clear();
+  plain.curvature.clear();
+  write_mesh(plain, path);
+  const TriangleMesh r2 = read_mesh(path);
+  EXPECT_TRUE(r2.normals.empty());
+  EXPECT_TRUE(r2.curvature.empty());
+}
+
+TEST(MeshCurvature, IcosphereEstimateIsOneOverRSquared) {
+  const double radius = 15;
+  TriangleMesh m = test::icosphere(radius, 4);
+  estimate_mesh_curvature(m);
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    const Eigen::Vector3f out = m.vertices[i].normalized().cast<float>();
+    EXPECT_GT(m.normals[i].dot(out), 0.999f);
+    EXPECT_NEAR(m.curvature[i][2] * radius * radius, 1.0, 0.05) << i;  // K
+    EXPECT_NEAR(m.curvature[i][3] * radius, -1.0, 0.05) << i;          // H, MPU's sign: convex < 0
+    EXPECT_GE(m.curvature[i][0], m.curvature[i][1]);
+  }
+  // Winding reversed: the normals still point out.
+  for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  estimate_mesh_curvature(m);
+  EXPECT_GT(m.normals[0].dot(m.vertices[0].normalized().cast<float>()), 0.999f);
+}
 
 TEST(MeshIo, ReadsAsciiPlyWithQuadsAndExtraProperties) {
   const std::string ply =

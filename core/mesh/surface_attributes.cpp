@@ -1,0 +1,68 @@
+#include "mesh/surface_attributes.h"
+
+#include <cmath>
+#include <numbers>
+
+namespace mpumesh {
+
+void attach_surface_attributes(TriangleMesh& mesh, const mpu::MpuSurface& surface, ComputeBackend& backend) {
+  const std::vector<mpu::EvalRow> rows = backend.mpu_eval(surface, mesh.vertices);
+  mesh.normals.assign(mesh.vertices.size(), Eigen::Vector3f::Zero());
+  mesh.curvature.assign(mesh.vertices.size(), {0, 0, 0, 0});
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const mpu::EvalRow& r = rows[i];
+    const Eigen::Vector3d g(r.g[0], r.g[1], r.g[2]);
+    const double len = g.norm();
+    if (len > 0) mesh.normals[i] = (g / len).cast<float>();
+    mesh.curvature[i] = {float(r.k1), float(r.k2), float(r.gauss), float(r.mean)};
+  }
+}
+
+void estimate_mesh_curvature(TriangleMesh& mesh) {
+  const size_t n = mesh.vertices.size();
+  std::vector<Eigen::Vector3d> normal(n, Eigen::Vector3d::Zero()), laplace(n, Eigen::Vector3d::Zero());
+  std::vector<double> angle_sum(n, 0.0), area(n, 0.0);
+  double signed_volume = 0;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d p[3] = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
+    const Eigen::Vector3d cr = (p[1] - p[0]).cross(p[2] - p[0]);
+    const double a2 = cr.norm();  // twice the area
+    signed_volume += p[0].dot(p[1].cross(p[2])) / 6;
+    if (!(a2 > 0)) continue;
+    double ang[3], cot[3];
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d u = p[(k + 1) % 3] - p[k], v = p[(k + 2) % 3] - p[k];
+      ang[k] = std::atan2(u.cross(v).norm(), u.dot(v));
+      cot[k] = u.dot(v) / a2;
+    }
+    const bool obtuse = ang[0] > std::numbers::pi / 2 || ang[1] > std::numbers::pi / 2 || ang[2] > std::numbers::pi / 2;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t i = t[size_t(k)];
+      normal[i] += cr;  // area-weighted (twice)
+      angle_sum[i] += ang[k];
+      // Edge (i, j) is opposite corner l, edge (i, l) opposite corner j.
+      const Eigen::Vector3d eij = p[k] - p[(k + 1) % 3], eil = p[k] - p[(k + 2) % 3];
+      laplace[i] += cot[(k + 2) % 3] * eij + cot[(k + 1) % 3] * eil;
+      if (!obtuse)
+        area[i] += (eij.squaredNorm() * cot[(k + 2) % 3] + eil.squaredNorm() * cot[(k + 1) % 3]) / 8;
+      else
+        area[i] += a2 / 2 / (ang[k] > std::numbers::pi / 2 ? 2 : 4);
+    }
+  }
+  // A mesh whose triangles wind clockwise from outside encloses a negative volume.
+  const double outward = signed_volume < 0 ? -1.0 : 1.0;
+  mesh.normals.assign(n, Eigen::Vector3f::Zero());
+  mesh.curvature.assign(n, {0, 0, 0, 0});
+  for (size_t i = 0; i < n; ++i) {
+    const double len = normal[i].norm();
+    if (!(len > 0) || !(area[i] > 0)) continue;
+    const Eigen::Vector3d nv = outward * normal[i] / len;
+    const double K = (2 * std::numbers::pi - angle_sum[i]) / area[i];
+    const double H = -0.5 * laplace[i].dot(nv) / (2 * area[i]);
+    const double d = std::sqrt(std::max(H * H - K, 0.0));
+    mesh.normals[i] = nv.cast<float>();
+    mesh.curvature[i] = {float(H + d), float(H - d), float(K), float(H)};
+  }
+}
+
+}  // namespace mpumesh

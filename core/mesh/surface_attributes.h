@@ -1,0 +1,22 @@
+// Per-vertex normals and curvature for a mesh (TriangleMesh::normals, ::curvature): from
+// the MPU surface it was made from, or estimated from the mesh alone for any other mesh.
+// Signs follow the MPU evaluation (core/mpu/mpu_eval_ref.h): normals point out, and a
+// convex part has negative k1, k2 and H (a sphere of radius r: k = -1/r, K = 1/r^2).
+#pragma once
+
+#include "compute/compute_backend.h"
+#include "mesh/triangle_mesh.h"
+#include "mpu/mpu_surface.h"
+
+namespace mpumesh {
+
+// Evaluates the surface at every vertex (on the backend given): normal = ∇f/|∇f|, and
+// k1, k2, K, H there.
+void attach_surface_attributes(TriangleMesh& mesh, const mpu::MpuSurface& surface, ComputeBackend& backend);
+
+// For a mesh without a surface: area-weighted normals (made to point out of the enclosed
+// volume), K from the angle deficit and H from the cotangent Laplacian, both over the
+// mixed Voronoi area (Meyer, Desbrun, Schröder and Barr 2003), k1, k2 = H ± sqrt(H² − K).
+void estimate_mesh_curvature(TriangleMesh& mesh);
+
+}  // namespace mpumesh
