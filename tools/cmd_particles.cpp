@@ -18,6 +18,10 @@
 #include "mesh/quality.h"
 #include "mesh/restricted_delaunay.h"
 #include "mesh/surface_attributes.h"
+#include "mc/marching_cubes.h"
+#include "mpu/polygonize.h"
+#include "io/read_file.h"
+#include "report_builder.h"
 #include "mpu/mpu_fit.h"
 #include "mpu/mpu_io.h"
 #include "mpu_cli.h"
@@ -204,7 +208,7 @@ void add_triangulate_command(CLI::App& app, CommonOptions& common, std::function
 
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
   struct Opts {
-    std::string input, output, report, local_fit = "orthopoly";
+    std::string input, output, report, html, local_fit = "orthopoly";
     SegmentCli seg;
     mpu::FitOptions fit;
     particles::SampleOptions sample;
@@ -219,6 +223,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       ->required();
   cmd->add_option("-o,--output", o->output, "mesh: .ply, .stl, .obj or .off")->required();
   cmd->add_option("--report", o->report, "write the JSON report here");
+  cmd->add_option("--html", o->html,
+                  "write the HTML report here: renders, the comparison with marching cubes and the original MPU, "
+                  "histograms, stage times");
   cmd->add_flag("!--no-self-intersections", o->self_intersections, "skip the self-intersection test of the report");
   add_segment_options(cmd, o->seg);
   add_fit_options(cmd, o->fit, o->local_fit);
@@ -231,6 +238,10 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       check_writable(o->output);
       mesh_format_from_path(o->output);
       if (!o->report.empty()) check_writable(o->report);
+      if (!o->html.empty()) {
+        check_writable(o->html);
+        if (lower_extension(o->html) != ".html") throw InputError(o->html + ": the HTML report must be a .html file");
+      }
       o->fit.local_fit = o->local_fit == "quadric" ? mpu::LocalFit::kQuadric : mpu::LocalFit::kOrthopoly;
       mpu::validate(o->fit);
       particles::validate(o->sample);
@@ -238,6 +249,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       nlohmann::json j;
       PointCloud cloud;
       vk::BackendChoice choice;
+      // The report's baselines: the input mesh, or marching cubes of the volume.
+      std::vector<std::pair<std::string, TriangleMesh>> baselines;
       if (is_mesh_path(o->input)) {
         progress.begin("read mesh");
         const TriangleMesh in = read_mesh(o->input);
@@ -245,6 +258,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
         progress.begin("points");
         cloud = pts::mesh_points(in);
         progress.end();
+        if (!o->html.empty()) baselines.push_back({"input mesh", in});
         if (cloud.size() == 0) throw InputError(o->input + ": the mesh has no triangle with an area");
         j["input"] = {{"path", o->input}, {"kind", "mesh"}, {"vertices", in.vertices.size()},
                       {"triangles", in.triangles.size()}};
@@ -265,6 +279,11 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                       {"modality", vol.modality}};
         j["segmentation"] = segment_json(sv.options, sv.segmentation);
         choice = std::move(sv.backend);
+        if (!o->html.empty()) {
+          progress.begin("marching cubes (report)");
+          baselines.push_back({"marching cubes", marching_cubes(vol, sv.options.threshold, *choice.backend)});
+          progress.end();
+        }
       }
       j["points"] = cloud.size();
       progress.begin("fit");
@@ -311,8 +330,23 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                     << " particles (" << choice.backend->device() << ")\n"
                     << quality_to_text(q);
       }
+      if (!o->html.empty()) {
+        progress.begin("original MPU (report)");
+        baselines.push_back({"original MPU", mpu::polygonize(s, 0, *choice.backend)});
+        progress.end();
+      }
       j["stage_seconds"] = stage_json(progress);
       j["version"] = MPUMESH_VERSION;
+      if (!o->html.empty()) {
+        progress.begin("report");
+        ReportInputs in;
+        in.ours = {std::filesystem::path(o->output).filename().string() + " (ours)", &mesh};
+        for (const auto& [name, m] : baselines) in.baselines.push_back({name, &m});
+        in.run = j;
+        write_text_file(build_report(in, *choice.backend), o->html);
+        progress.end();
+        j["html"] = o->html;
+      }
       if (!o->report.empty()) write_json_file(j, o->report);
       if (common.json) std::cout << j.dump(2) << '\n';
     };

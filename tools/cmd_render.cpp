@@ -1,7 +1,8 @@
 // `mpumesh render`: a PNG of a mesh from the offscreen renderer (host/render), on a Vulkan
-// device or the CPU reference.
+// device or the CPU reference; `mpumesh report`: the HTML report of any mesh.
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <iostream>
 
 #include "cli_util.h"
@@ -12,6 +13,7 @@
 #include "io/read_file.h"
 #include "render/mesh_render_vk.h"
 #include "render/render_scene.h"
+#include "report_builder.h"
 
 namespace mpumesh::tools {
 
@@ -85,6 +87,64 @@ void add_render_command(CLI::App& app, CommonOptions& common, std::function<void
       else if (!common.quiet)
         std::cout << fmt::format("{}: {} x {} from {} triangles ({})\n", o->output, img.width, img.height,
                                  mesh.triangles.size(), choice.backend->device());
+    };
+  });
+}
+
+}  // namespace mpumesh::tools
+
+namespace mpumesh::tools {
+
+void add_report_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  struct Opts {
+    std::string mesh, output, run_report;
+    std::vector<std::string> references;
+    BackendOptions backend;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("report", "Self-contained HTML report of a mesh, beside reference meshes");
+  cmd->add_option("mesh", o->mesh, "mesh: .ply (with the curvature `run` writes), .stl, .obj or .off")->required();
+  cmd->add_option("-o,--output", o->output, "report: .html")->required();
+  cmd->add_option("--reference", o->references, "a mesh to compare with (repeatable), e.g. a marching-cubes mesh");
+  cmd->add_option("--run-report", o->run_report, "the JSON report of the run that made the mesh (stages, parameters)");
+  add_backend_options(cmd, o->backend);
+  add_common(cmd, common);
+  cmd->callback([&common, &action, o] {
+    action = [&common, o] {
+      check_writable(o->output);
+      if (lower_extension(o->output) != ".html") throw InputError(o->output + ": the report must be a .html file");
+      Progress progress(common.quiet || common.json);
+      progress.begin("read");
+      const TriangleMesh mesh = read_mesh(o->mesh);
+      std::vector<TriangleMesh> refs;
+      for (const auto& r : o->references) refs.push_back(read_mesh(r));
+      nlohmann::json run = nlohmann::json::object();
+      if (!o->run_report.empty()) {
+        try {
+          run = nlohmann::json::parse(read_file(o->run_report));
+        } catch (const nlohmann::json::exception& e) {
+          throw InputError(o->run_report + ": not a JSON report (" + e.what() + ")");
+        }
+        if (!run.is_object()) throw InputError(o->run_report + ": not a JSON report (not an object)");
+      }
+      progress.end();
+      if (mesh.triangles.empty()) throw InputError(o->mesh + ": the mesh has no triangles to report on");
+      vk::BackendChoice choice = open_backend(o->backend, common, progress);
+      progress.begin("report");
+      ReportInputs in;
+      in.ours = {std::filesystem::path(o->mesh).filename().string(), &mesh};
+      for (size_t i = 0; i < refs.size(); ++i)
+        in.baselines.push_back({std::filesystem::path(o->references[i]).filename().string(), &refs[i]});
+      in.run = run;
+      const std::string html = build_report(in, *choice.backend);
+      progress.end();
+      write_text_file(html, o->output);
+      if (common.json)
+        std::cout << nlohmann::json{{"output", o->output}, {"bytes", html.size()}, {"stage_seconds", stage_json(progress)}}
+                         .dump(2)
+                  << '\n';
+      else if (!common.quiet)
+        std::cout << fmt::format("{}: {} KiB ({})\n", o->output, html.size() / 1024, choice.backend->device());
     };
   });
 }

@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   std::function<void()> action;
   mpumesh::tools::add_run_command(app, common, action);
   mpumesh::tools::add_render_command(app, common, action);
+  mpumesh::tools::add_report_command(app, common, action);
   mpumesh::tools::add_segment_command(app, common, action);
   mpumesh::tools::add_points_command(app, common, action);
   mpumesh::tools::add_fit_command(app, common, action);

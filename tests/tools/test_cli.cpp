@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <filesystem>
@@ -57,9 +58,71 @@ void expect_failure(const std::string& args, const std::string& words, const std
       EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
 }
 
+// Headless Chromium opens a report from disk: the page's own check (every image decoded,
+// every SVG chart drawn, no script error: <body data-check>), every console line, and a
+// screenshot. Skips without chromium, fails instead when MPUMESH_REQUIRE_BROWSER=1.
+struct BrowserResult {
+  nlohmann::json check;
+  std::vector<std::string> console;
+  bool screenshot_is_png = false;
+  size_t screenshot_bytes = 0;
+};
+
+BrowserResult open_in_chromium(const std::string& html, const std::string& screenshot) {
+  const std::string dir = std::filesystem::path(screenshot).parent_path().string();
+  const std::string common = "timeout 180 chromium --headless=new --no-sandbox --disable-gpu --hide-scrollbars "
+                             "--user-data-dir=" + dir + "/chromium-profile ";
+  const std::string url = "file://" + std::filesystem::absolute(html).string();
+  BrowserResult b;
+  const int rc = std::system((common + "--enable-logging=stderr --v=0 --virtual-time-budget=10000 --dump-dom " + url +
+                              " >" + dir + "/dom.html 2>" + dir + "/console.txt")
+                                 .c_str());
+  EXPECT_EQ(rc, 0) << "chromium --dump-dom failed";
+  const std::string dom = read_file(dir + "/dom.html");
+  const size_t at = dom.find("data-check=\"");
+  if (at != std::string::npos) {
+    std::string v = dom.substr(at + 12, dom.find('"', at + 12) - at - 12);
+    for (size_t q; (q = v.find("&quot;")) != std::string::npos;) v.replace(q, 6, "\"");
+    b.check = nlohmann::json::parse(v, nullptr, false);
+  }
+  std::istringstream console(read_file(dir + "/console.txt"));
+  for (std::string line; std::getline(console, line);)
+    if (line.find(":CONSOLE") != std::string::npos) b.console.push_back(line);
+  std::filesystem::remove(screenshot);
+  EXPECT_EQ(std::system((common + "--window-size=1400,5200 --screenshot=" + screenshot + " " + url + " >/dev/null 2>&1")
+                            .c_str()),
+            0);
+  if (std::filesystem::exists(screenshot)) {
+    const std::string png = read_file(screenshot);
+    b.screenshot_bytes = png.size();
+    b.screenshot_is_png = png.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0;
+  }
+  return b;
+}
+
+#define CHROMIUM_OR_SKIP()                                                                        \
+  if (std::system("command -v chromium >/dev/null 2>&1") != 0) {                                  \
+    if (test::env_flag("MPUMESH_REQUIRE_BROWSER")) FAIL() << "chromium is not installed";          \
+    GTEST_SKIP() << "chromium is not installed";                                                  \
+  }
+
+// The page rendered in a browser: every image and chart there, nothing on the console.
+void expect_report_renders(const std::string& html, const std::string& screenshot, int images, int charts) {
+  const BrowserResult b = open_in_chromium(html, screenshot);
+  ASSERT_TRUE(b.check.is_object()) << "the page's check did not run";
+  EXPECT_EQ(b.check["images"].get<int>(), images);
+  EXPECT_EQ(b.check["decoded"].get<int>(), images);
+  EXPECT_EQ(b.check["charts"].get<int>(), charts);
+  EXPECT_EQ(b.check["drawn"].get<int>(), charts);
+  EXPECT_EQ(b.check["errors"].get<int>(), 0);
+  EXPECT_TRUE(b.console.empty()) << b.console.front();
+  EXPECT_TRUE(b.screenshot_is_png);
+  EXPECT_GT(b.screenshot_bytes, 50000u);  // a blank page is a few kB
+}
+
 TEST(Cli, HelpForEverySubcommand) {
   for (const char* sub : {"", "run", "segment", "points", "fit", "eval", "polygonize", "mc", "quality", "convert",
-                          "devices"}) {
+                          "devices", "render", "report", "sample", "triangulate"}) {
     const Result r = run(std::string(sub) + " --help");
     EXPECT_EQ(r.code, 0) << sub;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << sub;
@@ -99,6 +162,49 @@ TEST(Cli, RunWritesMeshAndReport) {
   EXPECT_NEAR(j["particles"]["particles"].get<double>(), 1500, 300);
   EXPECT_EQ(j["triangles"].get<int64_t>(), read_mesh(dir + "/m.ply").triangles.size());
   EXPECT_FALSE(j["backend"]["device"].get<std::string>().empty());
+  // The PLY carries the MPU surface's normals and curvature: a ball of radius 6 mm.
+  const TriangleMesh m = read_mesh(dir + "/m.ply");
+  ASSERT_EQ(m.curvature.size(), m.vertices.size());
+  ASSERT_EQ(m.normals.size(), m.vertices.size());
+  std::vector<double> k;
+  for (const auto& c : m.curvature) k.push_back(c[2] * 36.0);
+  std::sort(k.begin(), k.end());
+  EXPECT_NEAR(k[k.size() / 2], 1.0, 0.1);  // median K within 10% of 1/r^2
+}
+
+TEST(Cli, RenderWritesAPictureAndRefusesBadOptions) {
+  const std::string dir = test::temp_dir("render");
+  write_mesh(test::icosphere(10.0, 3), dir + "/s.ply");
+  const Result r = run("render " + dir + "/s.ply -o " + dir + "/s.png --color curvature --wireframe --view front "
+                       "--size 300x200 --json --backend cpu");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["size"][0].get<int>(), 300);
+  EXPECT_NE(j["legend"]["title"].get<std::string>().find("estimated from the mesh"), std::string::npos);
+  EXPECT_EQ(read_file(dir + "/s.png").compare(0, 4, "\x89PNG"), 0);
+  const std::string out = dir + "/bad.png";
+  expect_failure("render " + dir + "/s.ply -o " + out + " --view sideways", "--view", out);
+  expect_failure("render " + dir + "/s.ply -o " + out + " --size 10x10", "--size", out);
+  expect_failure("render " + dir + "/s.ply -o " + out + " --zoom 1,2,3", "--zoom", out);
+  expect_failure("render " + dir + "/s.ply -o " + dir + "/bad.jpg", "must be a .png", dir + "/bad.jpg");
+  expect_failure("render " + dir + "/missing.ply -o " + out, "missing.ply", out);
+  expect_failure("report " + dir + "/s.ply -o " + dir + "/r.html --run-report " + dir + "/s.ply", "not a JSON report",
+                 dir + "/r.html");
+}
+
+TEST(Cli, ReportOfAnyMeshOpensInABrowser) {
+  CHROMIUM_OR_SKIP();
+  const std::string dir = test::temp_dir("report");
+  write_mesh(test::icosphere(10.0, 4), dir + "/fine.ply");
+  write_mesh(test::icosphere(10.0, 2), dir + "/coarse.stl");
+  const Result r = run("report " + dir + "/fine.ply --reference " + dir + "/coarse.stl -o " + dir +
+                       "/r.html --backend auto --quiet");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string html = read_file(dir + "/r.html");
+  EXPECT_EQ(html.find("http://www.w3.org/2000/svg\""), html.find("http://"));  // nothing else fetched
+  EXPECT_NE(html.find("coarse.stl"), std::string::npos);
+  // 4 renders of the mesh, 2 panels of the region; 2 histograms and the scatter plot.
+  expect_report_renders(dir + "/r.html", dir + "/r.png", 6, 3);
 }
 
 // The whole job on the real head CT (bone at 226 HU): a closed, oriented manifold without
@@ -107,8 +213,15 @@ TEST(Cli, RunOnTheSampleCt) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);
   const std::string dir = test::temp_dir("run-ct");
   const Result r = run("run " + ct + " --threshold 226 --particles 20000 -o " + dir + "/skull.ply --report " + dir +
-                       "/report.json --backend auto --quiet");
+                       "/report.json --html " + dir + "/report.html --backend auto --quiet");
   ASSERT_EQ(r.code, 0) << r.out;
+  // The HTML report in a real browser: 4 renders and the 3 panels of the Fig. 4 region (ours,
+  // marching cubes, original MPU); the two histograms, the adaptivity plot, the stage times.
+  const std::string html = read_file(dir + "/report.html");
+  for (const char* want : {"marching cubes", "original MPU", "Cranium.inv3", "Time by stage", "curvature_scale"})
+    EXPECT_NE(html.find(want), std::string::npos) << want;
+  if (std::system("command -v chromium >/dev/null 2>&1") == 0 || test::env_flag("MPUMESH_REQUIRE_BROWSER"))
+    expect_report_renders(dir + "/report.html", dir + "/report.png", 7, 4);
   const auto j = nlohmann::json::parse(read_file(dir + "/report.json"));
   const auto& q = j["quality"];
   EXPECT_TRUE(q["closed"].get<bool>());

@@ -1,0 +1,297 @@
+#include "report_builder.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <unordered_map>
+
+#include "common/error.h"
+#include "io/atomic_file.h"
+#include "mesh/quality.h"
+#include "mesh/surface_attributes.h"
+#include "render/mesh_render_vk.h"
+#include "render/render_scene.h"
+#include "report/html_report.h"
+
+namespace mpumesh::tools {
+namespace {
+
+const char* const kColours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
+
+struct PerTriangle {
+  std::vector<double> min_angle, radius_ratio;
+};
+
+PerTriangle per_triangle(const TriangleMesh& m) {
+  PerTriangle p;
+  p.min_angle.reserve(m.triangles.size());
+  p.radius_ratio.reserve(m.triangles.size());
+  for (const auto& t : m.triangles) {
+    const auto &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
+    p.min_angle.push_back(triangle_min_angle_deg(a, b, c));
+    p.radius_ratio.push_back(triangle_radius_ratio(a, b, c));
+  }
+  return p;
+}
+
+// Normals and curvature: the mesh's own (from the MPU surface) or estimated.
+TriangleMesh with_attributes(const TriangleMesh& m) {
+  TriangleMesh out = m;
+  if (out.normals.size() != out.vertices.size() || out.curvature.size() != out.vertices.size())
+    estimate_mesh_curvature(out);
+  return out;
+}
+
+// The Fig. 4 region: the cell (of size r) of the mesh with the largest integrated |K|
+// among cells holding at least 30 vertices of the outer surface (the farthest third from
+// the centre, facing away from it: inner structures are hidden from any view); looked
+// at along its mean normal.
+struct Region {
+  Eigen::Vector3d centre, view;
+  double radius;
+};
+
+Region pick_region(const TriangleMesh& m) {
+  Eigen::Vector3d lo = m.vertices[0], hi = m.vertices[0];
+  for (const auto& v : m.vertices) lo = lo.cwiseMin(v), hi = hi.cwiseMax(v);
+  const double r = std::max(0.04 * (hi - lo).norm(), 1e-3);
+  std::vector<double> area(m.vertices.size(), 0.0);
+  for (const auto& t : m.triangles) {
+    const double a = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm() / 6;
+    for (uint32_t i : t) area[i] += a;
+  }
+  struct Cell {
+    double score = 0;
+    Eigen::Vector3d weighted = Eigen::Vector3d::Zero(), normal = Eigen::Vector3d::Zero();
+    double weight = 0;
+    int count = 0;
+  };
+  const Eigen::Vector3d mid = (lo + hi) / 2;
+  std::vector<double> dist(m.vertices.size());
+  for (size_t i = 0; i < m.vertices.size(); ++i) dist[i] = (m.vertices[i] - mid).norm();
+  std::vector<double> sorted = dist;
+  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(sorted.size() * 2 / 3), sorted.end());
+  const double outer = sorted[sorted.size() * 2 / 3];
+  std::unordered_map<uint64_t, Cell> cells;
+  for (size_t i = 0; i < m.vertices.size(); ++i) {
+    const Eigen::Vector3d out = m.vertices[i] - mid;
+    if (dist[i] < outer || m.normals[i].cast<double>().dot(out) < 0.5 * dist[i]) continue;
+    const Eigen::Vector3d g = ((m.vertices[i] - lo) / r).array().floor();
+    const uint64_t key = (uint64_t(g.x()) << 42) | (uint64_t(g.y()) << 21) | uint64_t(g.z());
+    Cell& c = cells[key];
+    const double w = std::abs(double(m.curvature[i][2])) * area[i];
+    c.score += w;
+    c.weighted += (w + 1e-12) * m.vertices[i];
+    c.weight += w + 1e-12;
+    c.normal += m.normals[i].cast<double>();
+    ++c.count;
+  }
+  const Cell* best = nullptr;
+  for (const auto& [k, c] : cells)
+    if (c.count >= 30 && (!best || c.score > best->score)) best = &c;
+  if (!best)
+    for (const auto& [k, c] : cells)
+      if (!best || c.count > best->count) best = &c;
+  if (!best) return {mid, Eigen::Vector3d(1, -1, 1).normalized(), r};
+  Region reg;
+  const Eigen::Vector3d target = best->weighted / best->weight;
+  size_t nearest = 0;
+  for (size_t i = 1; i < m.vertices.size(); ++i)
+    if ((m.vertices[i] - target).squaredNorm() < (m.vertices[nearest] - target).squaredNorm()) nearest = i;
+  reg.centre = m.vertices[nearest];
+  reg.view = best->normal.norm() > 0 ? Eigen::Vector3d(best->normal.normalized()) : Eigen::Vector3d(1, -1, 1).normalized();
+  reg.radius = r;
+  return reg;
+}
+
+std::string render_png(ComputeBackend& backend, const TriangleMesh& m, render::RenderOptions ro) {
+  const render::RenderScene scene = render::build_scene(m, ro);
+  return render::encode_png(vk::render_image(backend, scene));
+}
+
+double spearman(const std::vector<double>& a, const std::vector<double>& b) {
+  auto ranks = [](const std::vector<double>& v) {
+    std::vector<size_t> idx(v.size());
+    std::iota(idx.begin(), idx.end(), 0);
+    std::sort(idx.begin(), idx.end(), [&](size_t i, size_t j) { return v[i] < v[j]; });
+    std::vector<double> r(v.size());
+    for (size_t k = 0; k < idx.size(); ++k) r[idx[k]] = double(k);
+    return r;
+  };
+  const std::vector<double> ra = ranks(a), rb = ranks(b);
+  const double n = double(a.size());
+  if (n < 3) return 0;
+  const double mean = (n - 1) / 2;
+  double sab = 0, saa = 0, sbb = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    sab += (ra[i] - mean) * (rb[i] - mean);
+    saa += (ra[i] - mean) * (ra[i] - mean);
+    sbb += (rb[i] - mean) * (rb[i] - mean);
+  }
+  return sab / std::sqrt(saa * sbb);
+}
+
+std::string fmt_num(const nlohmann::json& j) {
+  if (j.is_number_float()) return fmt::format("{:.4g}", j.get<double>());
+  if (j.is_string()) return j.get<std::string>();
+  return j.dump();
+}
+
+}  // namespace
+
+std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
+  const TriangleMesh ours = with_attributes(*in.ours.mesh);
+  if (ours.triangles.empty()) throw InputError(in.ours.name + ": the mesh has no triangles to report on");
+  const bool mpu_curvature = in.ours.mesh->curvature.size() == in.ours.mesh->vertices.size();
+  report::HtmlPage page("mpumesh report: " + in.ours.name);
+  const nlohmann::json& run = in.run;
+
+  // Input and summary.
+  std::string intro = "mpumesh " + report::escape_html(MPUMESH_VERSION);
+  if (run.contains("backend")) intro += "; device: " + report::escape_html(fmt_num(run["backend"].value("device", "")));
+  page.paragraph(intro);
+  if (run.contains("input")) {
+    std::vector<std::vector<std::string>> rows;
+    for (const auto& [k, v] : run["input"].items()) rows.push_back({k, fmt_num(v)});
+    page.heading("Input");
+    page.table({"", ""}, rows);
+  }
+  std::vector<ReportMesh> all = {in.ours};
+  for (const auto& b : in.baselines) all.push_back(b);
+  std::vector<PerTriangle> shapes;
+  std::vector<std::vector<std::string>> rows;
+  for (const auto& rm : all) {
+    QualityOptions qo;
+    qo.self_intersections = false;
+    const Quality q = measure_quality(*rm.mesh, qo);
+    shapes.push_back(per_triangle(*rm.mesh));
+    rows.push_back({rm.name, fmt::format("{}", rm.mesh->triangles.size()), fmt::format("{}", rm.mesh->vertices.size()),
+                    q.topo.closed && q.topo.oriented ? "yes" : "no", fmt::format("{}", q.topo.genus),
+                    fmt::format("{}", q.topo.components), fmt::format("{:.2f}", q.angle_min),
+                    fmt::format("{:.2f}", q.pct_angle_below[2]), fmt::format("{:.3f}", q.radius_ratio_mean),
+                    fmt::format("{:.2f}", q.dihedral_mean), fmt::format("{:.2f}", q.pct_area_axis_aligned)});
+  }
+  page.heading("Meshes");
+  page.table({"mesh", "triangles", "vertices", "closed oriented manifold", "genus", "components", "min angle (deg)",
+              "% triangles < 30 deg", "mean radius ratio", "mean dihedral (deg)", "% area axis-aligned"},
+             rows);
+
+  // Renders of the result.
+  page.heading("The result");
+  render::RenderOptions ro;
+  ro.width = 800, ro.height = 600;
+  ro.color = render::ColorBy::kCurvature;
+  ro.view = Eigen::Vector3d(1, -1, 1).normalized();
+  const std::string k_source = mpu_curvature ? "from the MPU surface" : "estimated from the mesh";
+  std::vector<report::HtmlPage::Figure> figs;
+  figs.push_back({render_png(backend, ours, ro), "Gaussian curvature K (" + k_source + "), view (1,-1,1)"});
+  ro.view = Eigen::Vector3d(-1, 1, 1).normalized();
+  figs.push_back({render_png(backend, ours, ro), "Gaussian curvature K (" + k_source + "), view (-1,1,1)"});
+  page.figures(figs);
+  figs.clear();
+  ro.color = render::ColorBy::kMinAngle;
+  ro.wireframe = true;
+  ro.view = Eigen::Vector3d(-1, 1, 1).normalized();
+  figs.push_back({render_png(backend, ours, ro), "smallest angle of each triangle, with edges"});
+  ro.color = render::ColorBy::kEdgeLength;
+  figs.push_back({render_png(backend, ours, ro), "mean edge length of each triangle (mm), with edges"});
+  page.figures(figs);
+
+  // Fig. 4: the same zoomed region of every mesh.
+  const Region reg = pick_region(ours);
+  page.heading("The same region, side by side (the paper's Fig. 4)");
+  page.paragraph(report::escape_html(fmt::format(
+      "Region: the ball of radius {:.1f} mm at ({:.1f}, {:.1f}, {:.1f}) mm, where our mesh's integrated |K| is "
+      "largest, seen along its mean normal ({:.2f}, {:.2f}, {:.2f}); triangles coloured by their smallest angle.",
+      reg.radius, reg.centre.x(), reg.centre.y(), reg.centre.z(), reg.view.x(), reg.view.y(), reg.view.z())));
+  figs.clear();
+  for (size_t i = 0; i < all.size(); ++i) {
+    render::RenderOptions zo;
+    zo.width = zo.height = 520;
+    zo.view = reg.view;
+    zo.zoom = std::make_pair(reg.centre, reg.radius);
+    zo.wireframe = true;
+    zo.color = render::ColorBy::kMinAngle;
+    zo.title = all[i].name;
+    const auto& s = shapes[i].min_angle;
+    const double below30 = 100.0 * double(std::count_if(s.begin(), s.end(), [](double a) { return a < 30; })) /
+                           double(std::max<size_t>(s.size(), 1));
+    figs.push_back({render_png(backend, *all[i].mesh, zo),
+                    fmt::format("{}: {} triangles, smallest angle {:.1f} deg, {:.1f}% under 30 deg", all[i].name,
+                                all[i].mesh->triangles.size(), *std::min_element(s.begin(), s.end()), below30)});
+  }
+  page.figures(figs);
+
+  // Histograms.
+  page.heading("Triangle shape");
+  std::vector<report::Series> angle, ratio;
+  for (size_t i = 0; i < all.size(); ++i) {
+    angle.push_back({all[i].name, kColours[i % 5], shapes[i].min_angle});
+    ratio.push_back({all[i].name, kColours[i % 5], shapes[i].radius_ratio});
+  }
+  page.svg(report::svg_histogram("Smallest angle of each triangle", "degrees", angle, 0, 60, 30));
+  page.svg(report::svg_histogram("Radius ratio 2 r_in / r_circ", "radius ratio", ratio, 0, 1, 25));
+
+  // Adaptivity: spacing (mean incident edge length) against |K|.
+  std::vector<double> len_sum(ours.vertices.size(), 0.0), len_n(ours.vertices.size(), 0.0);
+  for (const auto& t : ours.triangles)
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t a = t[size_t(c)], b = t[size_t((c + 1) % 3)];
+      const double e = (ours.vertices[a] - ours.vertices[b]).norm();
+      len_sum[a] += e, len_n[a] += 1, len_sum[b] += e, len_n[b] += 1;
+    }
+  std::vector<double> absk, spacing;
+  for (size_t i = 0; i < ours.vertices.size(); ++i)
+    if (len_n[i] > 0) absk.push_back(std::abs(double(ours.curvature[i][2]))), spacing.push_back(len_sum[i] / len_n[i]);
+  const double rho = spearman(absk, spacing);
+  std::vector<double> sx, sy;
+  const size_t stride = std::max<size_t>(1, absk.size() / 4000);
+  for (size_t i = 0; i < absk.size(); i += stride) sx.push_back(absk[i]), sy.push_back(spacing[i]);
+  page.heading("Adaptivity");
+  page.paragraph(report::escape_html(fmt::format(
+      "Spacing at each vertex of our mesh (mean length of its edges) against |K| there ({}); rank correlation {:.3f} "
+      "over {} vertices ({} drawn).",
+      k_source, rho, absk.size(), sx.size())));
+  page.svg(report::svg_scatter("Vertex spacing against Gaussian curvature", "|K| (1/mm^2, log scale)",
+                               "spacing (mm)", sx, sy, true));
+
+  // Stage times.
+  if (run.contains("stage_seconds")) {
+    std::vector<std::pair<std::string, double>> bars;
+    for (const auto& [k, v] : run["stage_seconds"].items())
+      if (v.is_number()) bars.push_back({k, v.get<double>()});
+    const std::string device = run.contains("backend") ? fmt_num(run["backend"].value("device", "")) : "";
+    page.heading("Time by stage");
+    page.svg(report::svg_bars("Stage times on " + device, bars, "s"));
+  }
+
+  // Parameters.
+  nlohmann::json params = nlohmann::json::object();
+  for (const char* key : {"segmentation", "fit", "particles", "triangulation"})
+    if (run.contains(key)) {
+      params[key] = run[key];
+      if (params[key].is_object()) params[key].erase("history");
+    }
+  if (!params.empty()) {
+    page.heading("Parameters and stage figures");
+    page.pre(params.dump(2));
+  }
+  return page.html();
+}
+
+void write_text_file(const std::string& text, const std::string& path) {
+  AtomicFile out(path);
+  {
+    std::ofstream os(out.temp_path(), std::ios::binary);
+    if (!os) throw InputError(path + ": cannot open for writing");
+    os << text;
+    os.flush();
+    if (!os) throw InputError(path + ": write failed (disk full?)");
+  }
+  out.commit();
+}
+
+}  // namespace mpumesh::tools
