@@ -16,4 +16,10 @@ src=/usr/share/doc/invesalius-examples/examples/Cranium.inv3
 "$BIN" run data/Cranium.inv3 --threshold 226 -o out/skull.ply --report out/skull-report.json \
   --html out/skull-report.html
 "$BIN" render out/skull.ply -o out/skull.png --color curvature --view=-1,1,1 --quiet
-echo "wrote out/skull.ply (with normals and curvature), out/skull-report.json, out/skull-report.html, out/skull.png"
+shot=""
+if command -v chromium >/dev/null; then
+  chromium --headless=new --no-sandbox --disable-gpu --hide-scrollbars --window-size=1400,5200 \
+    --user-data-dir="$(mktemp -d)" --screenshot="$PWD/out/skull-report-screenshot.png" \
+    "file://$PWD/out/skull-report.html" >/dev/null 2>&1 && shot=", out/skull-report-screenshot.png"
+fi
+echo "wrote out/skull.ply (with normals and curvature), out/skull-report.json, out/skull-report.html, out/skull.png$shot"

@@ -29,3 +29,14 @@ if [[ $step == all || $step == run ]]; then
   done
   $B/bin/mpumesh_bench_run $ct 226 45000 2.6 0.36 2>&1 | tee "$OUT/bench_run.txt"
 fi
+if [[ $step == all || $step == render ]]; then
+  # The HTML report made on the GPU, and the renderer's time on both backends.
+  $B/bin/mpumesh run $ct --threshold 226 --particles 45000 --backend gpu -o /tmp/ct_r.ply \
+    --html "$OUT/report_gpu.html" --report "$OUT/run_html.json" --no-self-intersections --quiet
+  $B/bin/mpumesh mc $ct --threshold 226 -o /tmp/mc.ply --quiet
+  for be in gpu cpu; do
+    $B/bin/mpumesh render /tmp/mc.ply -o "$OUT/mc_$be.png" --color curvature --wireframe --size 2048x1536 \
+      --backend $be --json | grep -A12 stage_seconds | tr -d '\n '; echo " ($be)"
+  done
+fi
+
