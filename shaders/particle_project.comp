@@ -41,7 +41,10 @@ void main() {
   if (!ok || !(g > 0.0) || s.leaves == 0u) {
     pos[i] = vec4(x, sigma);
     normal[i] = vec4(0.0, 0.0, 1.0, uintBitsToFloat(0x7fc00000u));  // lost
-    if (pc.curvature != 0u) curv[i] = vec4(0.0);
+    // A NaN evaluation (a broken surface or kernel) is told from a vanished gradient by
+    // NaN curvature, which the driver's finiteness check reports.
+    const bool nan_eval = isnan(s.f) || any(isnan(s.g));
+    if (pc.curvature != 0u) curv[i] = nan_eval ? vec4(uintBitsToFloat(0x7fc00000u)) : vec4(0.0);
     return;
   }
   vec3 step = -s.f / g2 * s.g;

@@ -45,6 +45,7 @@ nlohmann::json fit_json(const mpu::FitOptions& o, const mpu::FitStats& st) {
           {"general_quadric", st.general_quadric},
           {"orthopoly_degrees", {{"2", st.degree_counts[2]}, {"3", st.degree_counts[3]}, {"4", st.degree_counts[4]}}},
           {"leaves_over_eps", st.over_eps},
+          {"duplicates_removed", st.duplicates_removed},
           {"max_depth_reached", st.max_depth_reached},
           {"eps_mm", st.eps},
           {"min_radius_mm", st.min_radius},

@@ -11,6 +11,7 @@
 #include "cli_util.h"
 #include "commands.h"
 #include "common/error.h"
+#include "common/memory.h"
 #include "compute/cpu_backend.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
@@ -244,7 +245,12 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       }
       o->fit.local_fit = o->local_fit == "quadric" ? mpu::LocalFit::kQuadric : mpu::LocalFit::kOrthopoly;
       mpu::validate(o->fit);
-      particles::validate(o->sample);
+      particles::validate(o->sample, "run", "particle-iterations");
+      // Memory: the particles alone first, then (below) with the volume and the points,
+      // before the fit, the particles and the triangulation start.
+      const int64_t asked = o->sample.particles > 0 ? o->sample.particles : particles::kDefaultParticles;
+      check_memory("run", estimate_run_bytes(0, 0, asked));
+      int64_t voxels = 0;
       Progress progress(common.quiet || common.json);
       nlohmann::json j;
       PointCloud cloud;
@@ -255,6 +261,11 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
         progress.begin("read mesh");
         const TriangleMesh in = read_mesh(o->input);
         progress.end();
+        const Topology in_topo = analyze_topology(in);
+        if (!in_topo.closed || in_topo.nonmanifold_edges > 0)
+          throw InputError(fmt::format("{}: the input mesh is not a closed manifold ({} border edges, {} non-manifold "
+                                       "edges); remeshing needs a closed surface",
+                                       o->input, in_topo.border_edges, in_topo.nonmanifold_edges));
         progress.begin("points");
         cloud = pts::mesh_points(in);
         progress.end();
@@ -272,6 +283,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
           throw InputError(o->input + ": the segmentation holds no surface (nothing inside the threshold range?)");
         cloud = std::move(p.cloud);
         const Volume& vol = sv.volume;
+        voxels = vol.voxel_count();
         j["input"] = {{"path", o->input},
                       {"kind", "volume"},
                       {"dims", vol.dims},
@@ -286,6 +298,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
         }
       }
       j["points"] = cloud.size();
+      const uint64_t estimate = estimate_run_bytes(voxels, int64_t(cloud.size()), asked);
+      check_memory(o->input, estimate);
       progress.begin("fit");
       mpu::FitStats fit_stats;
       const mpu::MpuSurface s = mpu::fit_mpu(cloud, o->fit, &fit_stats);
@@ -307,6 +321,10 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       progress.begin("curvature");
       attach_surface_attributes(mesh, s, *choice.backend);
       progress.end();
+      for (size_t i = 0; i < mesh.vertices.size(); ++i)
+        if (!mesh.vertices[i].allFinite() || !mesh.normals[i].allFinite())
+          throw NumericalError(o->input + ": vertex " + std::to_string(i) +
+                               " of the triangulation or its normal is not finite; nothing written");
       progress.begin("write mesh");
       write_mesh(mesh, o->output);
       progress.end();
@@ -337,6 +355,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       }
       j["stage_seconds"] = stage_json(progress);
       j["version"] = MPUMESH_VERSION;
+      j["memory"] = {{"estimate_gib", double(estimate) / double(1ull << 30)},
+                     {"available_gib", double(available_memory_bytes()) / double(1ull << 30)},
+                     {"peak_rss_gib", double(peak_rss_bytes()) / double(1ull << 30)}};
       if (!o->html.empty()) {
         progress.begin("report");
         ReportInputs in;

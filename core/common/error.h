@@ -14,6 +14,13 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A computation that left the numbers (NaN or infinity from a kernel, a diverging
+// iteration): reported with the stage and iteration, and nothing is written.
+class NumericalError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 // A violated internal invariant (a bug, not bad input).
 class InternalError : public std::logic_error {
  public:

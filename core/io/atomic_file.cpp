@@ -70,8 +70,14 @@ void check_writable(const std::string& path) {
   std::error_code ec;
   if (!fs::is_directory(dir, ec))
     throw InputError(path + ": output directory '" + dir.string() + "' does not exist");
-  if (::access(dir.c_str(), W_OK) != 0)
-    throw InputError(path + ": output directory '" + dir.string() + "' is not writable");
+  // A file is made and removed there: permission bits say nothing for root, and a
+  // read-only or special file system (/proc) refuses only the creation itself.
+  const fs::path probe = dir / (".mpumesh-probe-" + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+  if (fd < 0) throw InputError(path + ": output directory '" + dir.string() + "' is not writable (" +
+                               std::strerror(errno) + ")");
+  ::close(fd);
+  ::unlink(probe.c_str());
   if (fs::is_directory(p, ec)) throw InputError(path + ": is a directory, not a file");
 }
 

@@ -1,5 +1,6 @@
 #include "io/dicom_pixel_check.h"
 
+#include <algorithm>
 #include <cstdint>
 
 #include "common/error.h"
@@ -16,6 +17,20 @@ uint32_t read_u32(const char* p, bool big) {
   const auto* u = reinterpret_cast<const unsigned char*>(p);
   return big ? (uint32_t(u[0]) << 24 | uint32_t(u[1]) << 16 | uint32_t(u[2]) << 8 | u[3])
              : (uint32_t(u[3]) << 24 | uint32_t(u[2]) << 16 | uint32_t(u[1]) << 8 | u[0]);
+}
+
+// The first little-endian US element (group, element) with its value, explicit or implicit
+// VR; 0 when absent. Group 0028 precedes any icon image's (inside group 0088).
+uint32_t find_us(const std::string& b, uint16_t group, uint16_t element, size_t before) {
+  const char tag[4] = {char(group & 0xff), char(group >> 8), char(element & 0xff), char(element >> 8)};
+  for (size_t at = b.find(std::string(tag, 4)); at != std::string::npos && at < before;
+       at = b.find(std::string(tag, 4), at + 1)) {
+    if (at + 10 > b.size()) break;
+    const char* p = b.data() + at + 4;
+    if (p[0] == 'U' && p[1] == 'S' && p[2] == 2 && p[3] == 0) return uint8_t(p[4]) | uint32_t(uint8_t(p[5])) << 8;
+    if (p[0] == 2 && p[1] == 0 && p[2] == 0 && p[3] == 0) return uint8_t(p[4]) | uint32_t(uint8_t(p[5])) << 8;
+  }
+  return 0;
 }
 
 }  // namespace
@@ -49,10 +64,20 @@ void check_dicom_pixel_data(const std::string& b, const std::string& name) {
       found = true;
     }
   }
-  if (!found || declared == 0xFFFFFFFFu) return;
+  if (!found || declared == 0xFFFFFFFFu) return;  // none, or encapsulated (compressed)
   if (value_start + declared > b.size())
     throw InputError(name + ": truncated DICOM: the pixel data declares " + std::to_string(declared) +
                      " bytes but the file holds only " + std::to_string(b.size() - value_start));
+  // Native pixel data shorter than one frame of Rows x Columns x samples x bytes: the
+  // element was written short (ITK would read the rest as zeros, or garbage).
+  const uint64_t rows = find_us(b, 0x0028, 0x0010, value_start), cols = find_us(b, 0x0028, 0x0011, value_start);
+  const uint64_t bits = find_us(b, 0x0028, 0x0100, value_start);
+  const uint64_t spp = std::max<uint64_t>(1, find_us(b, 0x0028, 0x0002, value_start));
+  const uint64_t frame = rows * cols * spp * ((bits + 7) / 8);
+  if (rows && cols && bits && declared < frame)
+    throw InputError(name + ": truncated DICOM: the pixel data holds " + std::to_string(declared) + " bytes, but " +
+                     std::to_string(rows) + " x " + std::to_string(cols) + " pixels of " + std::to_string(bits) +
+                     " bits need " + std::to_string(frame));
 }
 
 void check_dicom_pixel_data_file(const std::string& path) { check_dicom_pixel_data(read_file(path), path); }

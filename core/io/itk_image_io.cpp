@@ -14,6 +14,7 @@
 #include <itkMetaImageIO.h>
 #include <itkNiftiImageIO.h>
 #include <itkNrrdImageIO.h>
+#include <gdcmTrace.h>
 
 #include <algorithm>
 #include <cmath>
@@ -36,6 +37,19 @@ std::string lower(std::string s) {
 }
 bool ends_with(const std::string& s, const std::string& e) {
   return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
+}
+
+// ITK's and GDCM's own warnings go to stderr in their words; every problem they find
+// reaches the user as one InputError naming the file instead.
+void quiet_libraries() {
+  static const bool once = [] {
+    itk::Object::GlobalWarningDisplayOff();
+    gdcm::Trace::SetWarning(false);
+    gdcm::Trace::SetError(false);
+    gdcm::Trace::SetDebug(false);
+    return true;
+  }();
+  (void)once;
 }
 
 itk::ImageIOBase::Pointer io_for(const std::string& path) {
@@ -101,6 +115,7 @@ std::vector<double> parse_numbers(const std::string& s) {
 }
 
 PlainVolume read_series_impl(const std::string& dir) {
+  quiet_libraries();
   auto names = itk::GDCMSeriesFileNames::New();
   names->SetUseSeriesDetails(true);
   names->SetDirectory(dir);
@@ -108,7 +123,7 @@ PlainVolume read_series_impl(const std::string& dir) {
   if (uids.empty()) throw InputError(dir + ": no DICOM series found in this directory");
   if (uids.size() > 1)
     throw InputError(dir + ": holds " + std::to_string(uids.size()) +
-                     " DICOM series; put one series per directory");
+                     " DICOM series (or slices of different sizes or orientations); put one series per directory");
   const auto files = names->GetFileNames(uids.front());
   if (files.size() < 2) throw InputError(dir + ": the DICOM series has a single slice; a volume needs several");
   for (const auto& f : files) check_dicom_pixel_data_file(f);
@@ -121,11 +136,14 @@ PlainVolume read_series_impl(const std::string& dir) {
   // Slice positions along the normal: GDCM sorted by them; check they are regular.
   const auto* dicts = reader->GetMetaDataDictionaryArray();
   std::vector<double> pos;
+  std::vector<double> first_ipp, last_ipp;
   double normal[3] = {0, 0, 1};
   for (size_t i = 0; i < dicts->size(); ++i) {
     auto ipp = parse_numbers(dicom_tag(*(*dicts)[i], "0020|0032"));
     auto iop = parse_numbers(dicom_tag(*(*dicts)[i], "0020|0037"));
     if (ipp.size() != 3) throw InputError(files[i] + ": no ImagePositionPatient (0020,0032)");
+    if (i == 0) first_ipp = ipp;
+    last_ipp = ipp;
     if (i == 0 && iop.size() == 6) {
       normal[0] = iop[1] * iop[5] - iop[2] * iop[4];
       normal[1] = iop[2] * iop[3] - iop[0] * iop[5];
@@ -135,6 +153,18 @@ PlainVolume read_series_impl(const std::string& dir) {
         for (double& c : normal) c /= len;
     }
     pos.push_back(normal[0] * ipp[0] + normal[1] * ipp[1] + normal[2] * ipp[2]);
+  }
+  // Gantry tilt: the slices are stacked at an angle to their normal (a sheared grid).
+  {
+    double d[3], len = 0, along = 0;
+    for (int a = 0; a < 3; ++a) d[a] = last_ipp[size_t(a)] - first_ipp[size_t(a)], len += d[a] * d[a];
+    for (int a = 0; a < 3; ++a) along += d[a] * normal[a];
+    len = std::sqrt(len);
+    const double deg = len > 0 ? std::acos(std::min(1.0, std::abs(along) / len)) * 180 / 3.14159265358979 : 0;
+    if (deg > 0.5)
+      throw InputError(dir + ": gantry tilt of " + std::to_string(deg).substr(0, 5) +
+                       " degrees (the slices are not stacked along their normal); resample the series to an "
+                       "orthogonal grid first");
   }
   for (size_t i = 1; i + 1 < pos.size(); ++i) {
     const double d0 = pos[1] - pos[0], di = pos[i + 1] - pos[i];
@@ -185,6 +215,7 @@ PlainVolume itk_read_dicom_series(const std::string& dir) {
 }
 
 PlainVolume itk_read_file(const std::string& path) {
+  quiet_libraries();
   auto io = io_for(path);
   if (!io)
     throw InputError(path + ": unknown volume format (use a DICOM directory, .dcm, .nii, .nii.gz, "

@@ -21,6 +21,7 @@ TriangleMesh grid_mesh_to_physical(const mc::McMesh& m, const Volume& vol) {
 
 TriangleMesh marching_cubes(const Volume& vol, mc::ThresholdRange range, ComputeBackend& backend) {
   validate_volume(vol, vol.source);
+  require_3d(vol);
   const mc::McField field = mc::make_threshold_field(vol, range);
   int64_t inside = 0;
   for (float f : field.values) inside += f >= 0.0f;

@@ -86,6 +86,8 @@ Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt) {
     const Eigen::Vector3d &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
     const Eigen::Vector3d cr = (b - a).cross(c - a);
     const double area = 0.5 * cr.norm();
+    q.zero_area_triangles += t[0] != t[1] && t[1] != t[2] && t[0] != t[2] &&
+                             !(area > 1e-12 * std::max({(b - a).squaredNorm(), (c - a).squaredNorm(), 1e-300}));
     q.area_mm2 += area;
     q.volume_mm3 += a.dot(b.cross(c)) / 6.0;
     normal[f] = area > 0 ? Eigen::Vector3d(cr / (2 * area)) : Eigen::Vector3d::Zero();
@@ -161,6 +163,7 @@ nlohmann::json quality_to_json(const Quality& q) {
   j["nonmanifold_edges"] = q.topo.nonmanifold_edges;
   j["nonmanifold_vertices"] = q.topo.nonmanifold_vertices;
   j["degenerate_triangles"] = q.topo.degenerate_triangles;
+  j["zero_area_triangles"] = q.zero_area_triangles;
   j["self_intersections"] = q.self_intersections < 0 ? nlohmann::json() : nlohmann::json(q.self_intersections);
   j["area_mm2"] = q.area_mm2;
   j["volume_mm3"] = q.volume_mm3;

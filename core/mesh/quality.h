@@ -19,6 +19,7 @@ struct DistanceStats {
 struct Quality {
   Topology topo;
   int64_t self_intersections = -1;  // intersecting triangle pairs; -1 when not computed
+  int64_t zero_area_triangles = 0;  // three distinct corners on one line (or one point)
   double area_mm2 = 0, volume_mm3 = 0;
   double edge_min = 0, edge_mean = 0, edge_max = 0;
   double angle_min = 0, angle_p01 = 0, angle_mean = 0;   // per-triangle minimum angle

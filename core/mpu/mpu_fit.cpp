@@ -38,12 +38,58 @@ void validate(const FitOptions& o) {
   need(o.grid_cells >= 0 && o.grid_cells <= 512, "grid-cells", "between 0 (automatic) and 512");
 }
 
-MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* stats) {
+namespace {
+
+// The cloud without exact duplicates (the first of each position kept): a repeated point
+// would make the median spacing, hence eps and the smallest radius, zero.
+PointCloud without_duplicates(const PointCloud& in, int64_t* removed) {
+  std::vector<size_t> order(in.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto less = [&](size_t a, size_t b) {
+    const auto &p = in.positions[a], &q = in.positions[b];
+    if (p.x() != q.x()) return p.x() < q.x();
+    if (p.y() != q.y()) return p.y() < q.y();
+    if (p.z() != q.z()) return p.z() < q.z();
+    return a < b;
+  };
+  std::sort(order.begin(), order.end(), less);
+  std::vector<char> keep(in.size(), 1);
+  for (size_t k = 1; k < order.size(); ++k)
+    if (in.positions[order[k]] == in.positions[order[k - 1]]) keep[order[k]] = 0;
+  PointCloud out;
+  for (size_t i = 0; i < in.size(); ++i)
+    if (keep[i]) out.positions.push_back(in.positions[i]), out.normals.push_back(in.normals[i]);
+  *removed = int64_t(in.size() - out.size());
+  return out;
+}
+
+// Refuses points that span no volume: all on one plane (or line), where no closed surface
+// can be fitted.
+void check_not_flat(const PointCloud& c) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : c.positions) mean += p;
+  mean /= double(c.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : c.positions) cov += (p - mean) * (p - mean).transpose();
+  cov /= double(c.size());
+  const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues();
+  const double thick = std::sqrt(std::max(ev[0], 0.0)), wide = std::sqrt(std::max(ev[2], 0.0));
+  if (!(thick > 1e-4 * wide) || !(wide > 0))
+    throw InputError("fit: the points lie on one plane (spread " + std::to_string(thick) + " mm across it, " +
+                     std::to_string(wide) + " mm along it): a closed surface needs points around a volume");
+}
+
+}  // namespace
+
+MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* stats) {
   validate(opt);
   const auto t0 = std::chrono::steady_clock::now();
+  int64_t duplicates = 0;
+  const PointCloud cloud = without_duplicates(input, &duplicates);
   if (cloud.size() < size_t(opt.nmin))
-    throw InputError("fit: " + std::to_string(cloud.size()) + " points, fewer than --nmin " +
+    throw InputError("fit: " + std::to_string(cloud.size()) + " distinct points, fewer than --nmin " +
                      std::to_string(opt.nmin));
+  check_not_flat(cloud);
   PointsAdaptor adaptor{&cloud.positions};
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
@@ -201,6 +247,7 @@ MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* sta
   }
   build_lookup_grid(s, cells);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  st.duplicates_removed = duplicates;
   if (stats) *stats = st;
   return s;
 }

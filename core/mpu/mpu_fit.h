@@ -43,6 +43,7 @@ struct FitStats {
   int64_t over_eps = 0;         // leaves at max depth still above eps
   std::array<int64_t, 5> degree_counts{};  // orthopoly leaves by degree (index = degree)
   int max_depth_reached = 0;
+  int64_t duplicates_removed = 0;  // input points at exactly the position of an earlier one
   double eps = 0, min_radius = 0, seconds = 0;
 };
 

@@ -194,7 +194,8 @@ void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams&
       if (!ok || !(g > 0) || e.leaves == 0) {
         st.x[i] = x;
         st.distance[i] = NAN;  // lost: no surface here; the population step removes it
-        st.curv[i] = {};
+        // NaN curvature marks a NaN evaluation (a broken surface), zeros a vanished gradient.
+        st.curv[i] = std::isnan(e.f) || !e.g.allFinite() ? mpu::Curvature{NAN, NAN, NAN, NAN} : mpu::Curvature{};
         continue;
       }
       Eigen::Vector3d step = -e.f / g2 * e.g;

@@ -177,16 +177,16 @@ double hash01(uint32_t index, uint32_t iteration, uint32_t seed, uint32_t salt) 
   return double(h >> 8) * (1.0 / 16777216.0);
 }
 
-void validate(const SampleOptions& o) {
-  auto need = [](bool ok, const char* name, const char* what) {
-    if (!ok) throw InputError(std::string("sample: --") + name + " must be " + what);
+void validate(const SampleOptions& o, const std::string& command, const std::string& iterations_flag) {
+  auto need = [&](bool ok, const std::string& name, const char* what) {
+    if (!ok) throw InputError(command + ": --" + name + " must be " + what);
   };
   need(o.particles >= 0 && o.particles <= 100'000'000, "particles", "between 1 and 10^8 (0: from --spacing)");
   need(std::isfinite(o.spacing) && o.spacing >= 0, "spacing", "positive (mm)");
   need(std::isfinite(o.curvature_scale) && o.curvature_scale >= 0 && o.curvature_scale <= 5, "curvature-scale",
        "between 0 (uniform) and 5");
   need(std::isfinite(o.thickness_factor) && o.thickness_factor > 0, "thickness-factor", "positive");
-  need(o.iterations >= 1 && o.iterations <= 100000, "iterations", "between 1 and 100000");
+  need(o.iterations >= 1 && o.iterations <= 100000, iterations_flag, "between 1 and 100000");
   need(o.population_every >= 1, "population-every", "at least 1");
 }
 
@@ -243,6 +243,20 @@ std::vector<Eigen::Vector3d> leaf_candidates(const mpu::MpuSurface& s) {
   return c;
 }
 
+void check_finite(const ParticleState& st, int iteration, const ComputeBackend& backend) {
+  size_t bad = 0;
+  for (size_t i = 0; i < st.size(); ++i)
+    // Curvature is NaN only when the evaluation gave NaN (a lost particle, with ∇f = 0,
+    // gets zeros there and a NaN distance, and is removed as lost).
+    bad += !(st.x[i].allFinite() && std::isfinite(st.sigma[i]) && st.sigma[i] > 0 && std::isfinite(st.energy[i]) &&
+             std::isfinite(st.curv[i].gauss));
+  if (bad)
+    throw NumericalError("particles: " + std::to_string(bad) + " of " + std::to_string(st.size()) +
+                         " particles have a non-finite position, size or energy after iteration " +
+                         std::to_string(iteration) + " on " + backend.device() +
+                         " (the surface or a kernel produced NaN); nothing was written");
+}
+
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
                              const SampleOptions& opt_in, ComputeBackend& backend, SampleStats* stats_out) {
   validate(opt_in);
@@ -276,6 +290,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     StepParams proj = opt.step;
     proj.newton_steps = 8;
     project_step(s, pool, proj);
+    check_finite(pool, 0, backend);
     // Keep those that reached the surface near where they started.
     size_t m = 0;
     for (size_t k = 0; k < pool.size(); ++k) {
@@ -382,6 +397,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     thickness[k] = thick[i];
   }
   stats.seeds = int64_t(st.size());
+  check_finite(st, 0, backend);
   const int64_t cap = opt.max_particles > 0 ? opt.max_particles : 8 * int64_t(st.size()) + 10000;
   stats.seconds_seed = seconds_since(t_seed);
 
@@ -394,6 +410,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     const auto t_iter = Clock::now();
     backend.particle_iterations(s, st, batch_params(opt.step, st), batch);
     it += batch;
+    check_finite(st, it, backend);
     stats.seconds_iterate += seconds_since(t_iter);
     const auto t_pop = Clock::now();
     ++update;

@@ -53,7 +53,14 @@ struct SampleOptions {
   StepParams step;
 };
 
-void validate(const SampleOptions& o);
+// Throws InputError naming the option as `command` spells it (run calls the iteration cap
+// --particle-iterations).
+// Throws NumericalError naming the iteration and the device when a particle's position,
+// σ or energy is not finite (checked after seeding and after every batch).
+void check_finite(const ParticleState& st, int iteration, const ComputeBackend& backend);
+
+void validate(const SampleOptions& o, const std::string& command = "sample",
+              const std::string& iterations_flag = "iterations");
 
 struct PopulationRecord {
   int iteration = 0;

@@ -23,7 +23,7 @@ void validate(const ChanVeseParams& p) {
   need(std::isfinite(p.dt) && p.dt > 0, "dt", "a positive number");
   need(std::isfinite(p.epsilon) && p.epsilon > 0, "epsilon", "a positive number");
   need(std::isfinite(p.eta) && p.eta > 0, "eta", "a positive number");
-  need(p.iterations >= 0 && p.iterations <= 100000, "iterations", "between 0 and 100000");
+  need(p.iterations >= 1 && p.iterations <= 100000, "iterations", "between 1 and 100000 (--method threshold for none)");
 }
 
 template <class Real>

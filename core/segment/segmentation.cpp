@@ -99,10 +99,15 @@ std::vector<uint8_t> inner_mask(const mc::McField& f) {
 }  // namespace
 
 Segmentation segment(const Volume& vol, const SegmentOptions& opt, ComputeBackend& backend) {
+  require_3d(vol);
   Segmentation s;
   s.method = opt.method;
   mc::McField thr = mc::make_threshold_field(vol, opt.threshold);
   std::vector<uint8_t> mask = inner_mask(thr);
+  if (std::all_of(mask.begin(), mask.end(), [](uint8_t m) { return m != 0; }))
+    throw InputError(vol.source + ": every voxel lies in the threshold range " + std::to_string(opt.threshold.lo) +
+                     (std::isinf(opt.threshold.hi) ? std::string() : ":" + std::to_string(opt.threshold.hi)) +
+                     ": there is no surface inside the volume");
   s.threshold_components = mask_components(mask, vol.dims);
   if (s.threshold_components.count == 0)
     throw InputError(vol.source + ": no voxel lies in the threshold range " + std::to_string(opt.threshold.lo) +

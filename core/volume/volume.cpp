@@ -6,6 +6,13 @@
 
 namespace mpumesh {
 
+void require_3d(const Volume& v) {
+  if (v.dims[0] < 2 || v.dims[1] < 2 || v.dims[2] < 2)
+    throw InputError((v.source.empty() ? std::string("volume") : v.source) + ": a 2D image (" +
+                     std::to_string(v.dims[0]) + " x " + std::to_string(v.dims[1]) + " x " +
+                     std::to_string(v.dims[2]) + " voxels); meshing needs a volume of at least 2 slices");
+}
+
 void validate_volume(const Volume& v, const std::string& what) {
   for (int a = 0; a < 3; ++a) {
     if (v.dims[a] < 1) throw InputError(what + ": empty volume (a dimension is 0)");

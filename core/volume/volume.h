@@ -31,6 +31,10 @@ struct Volume {
 };
 
 // Checks the invariants every stage relies on; throws InputError naming `what`.
+// Throws InputError unless the volume has at least 2 voxels along every axis (a 2D image
+// or a single slice cannot hold a closed surface).
+void require_3d(const Volume& v);
+
 void validate_volume(const Volume& v, const std::string& what);
 
 }  // namespace mpumesh

@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "common/error.h"
 #include "compute/cpu_backend.h"
 #include "mesh/quality.h"
 #include "mesh/topology.h"
@@ -154,6 +156,37 @@ TEST(Particles, ThinPlateIsNotBridged) {
       // does not settle; the triangulation still separated the sheets in this case.)
       EXPECT_EQ(st.thickness_bound, 0);
     }
+  }
+}
+
+}  // namespace
+}  // namespace mpumesh
+
+namespace mpumesh {
+namespace {
+
+// A surface that turns to NaN on one side (as a broken kernel or a corrupt fit would): the
+// particle system stops with the iteration and the device named, instead of meshing NaN.
+TEST(Particles, NanFromTheSurfaceIsCaughtWithItsIteration) {
+  const test::AnalyticShape sphere{test::AnalyticShape::kSphere, 10, 10, 10};
+  const PointCloud cloud = test::sample_shape(sphere, 0.5, 0.5, true);
+  mpu::MpuSurface s = mpu::fit_mpu(cloud, {});
+  for (auto& leaf : s.leaves)
+    if (leaf.centre.x() > 6) leaf.coeffs.fill(std::numeric_limits<double>::quiet_NaN());
+  CpuBackend cpu;
+  const auto rows = cpu.mpu_eval(s, {Eigen::Vector3d(10, 0, 0), Eigen::Vector3d(-10, 0, 0)});
+  ASSERT_TRUE(std::isnan(rows[0].f));
+  ASSERT_TRUE(std::isfinite(rows[1].f));
+  particles::SampleOptions o;
+  o.particles = 800;
+  try {
+    particles::sample_surface(s, cloud.positions, o, cpu);
+    FAIL() << "no error";
+  } catch (const NumericalError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("after iteration"), std::string::npos) << m;
+    EXPECT_NE(m.find("CPU"), std::string::npos) << m;
+    EXPECT_NE(m.find("nothing was written"), std::string::npos) << m;
   }
 }
 

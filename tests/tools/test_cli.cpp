@@ -16,47 +16,11 @@
 #include "io/read_file.h"
 #include "io/volume_io.h"
 #include "mesh/topology.h"
+#include "cli_support.h"
 #include "test_support.h"
 
 namespace mpumesh {
 namespace {
-
-struct Result {
-  int code = -1;
-  std::string out;  // stdout and stderr
-};
-
-Result run(const std::string& args) {
-  Result r;
-  const std::string cmd = std::string(MPUMESH_BIN) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::array<char, 4096> buf;
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.out.append(buf.data(), n);
-  const int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string phantom(const std::string& dir) {
-  const std::string p = dir + "/ball.mha";
-  write_volume(test::sphere_volume({30, 28, 12}, {0.6, 0.6, 2.0}, {9, 8, 12}, 6.0), p);
-  return p;
-}
-
-// A run that must fail: exit 1, one "mpumesh: error:" line containing `words`, `out` not
-// created, and no temporary (.partial) file left beside it.
-void expect_failure(const std::string& args, const std::string& words, const std::string& out) {
-  const Result r = run(args);
-  EXPECT_EQ(r.code, 1) << args << "\n" << r.out;
-  EXPECT_NE(r.out.find("mpumesh: error:"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find(words), std::string::npos) << "want '" << words << "' in: " << r.out;
-  EXPECT_FALSE(std::filesystem::exists(out)) << args;
-  const auto dir = std::filesystem::path(out).parent_path();
-  if (std::filesystem::is_directory(dir))
-    for (auto& e : std::filesystem::directory_iterator(dir))
-      EXPECT_EQ(e.path().filename().string().find(".partial"), std::string::npos) << e.path();
-}
 
 // Headless Chromium opens a report from disk: the page's own check (every image decoded,
 // every SVG chart drawn, no script error: <body data-check>), every console line, and a

@@ -1,0 +1,50 @@
+#include "common/memory.h"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.h"
+
+namespace mpumesh {
+
+uint64_t available_memory_bytes() {
+  if (const char* env = std::getenv("MPUMESH_MEMORY_LIMIT_GIB")) {
+    const double gib = std::atof(env);
+    if (gib > 0) return uint64_t(gib * double(1ull << 30));
+  }
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  uint64_t kb = 0;
+  std::string unit;
+  while (in >> key >> kb >> unit)
+    if (key == "MemAvailable:") return kb * 1024;
+  const long pages = sysconf(_SC_AVPHYS_PAGES), size = sysconf(_SC_PAGESIZE);
+  return pages > 0 && size > 0 ? uint64_t(pages) * uint64_t(size) : UINT64_MAX;
+}
+
+uint64_t peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return uint64_t(u.ru_maxrss) * 1024;  // kB on Linux
+}
+
+uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles) {
+  return uint64_t(voxels) * 24 + uint64_t(points) * 2400 + uint64_t(particles) * 3000 + (64ull << 20);
+}
+
+void check_memory(const std::string& what, uint64_t need) {
+  const uint64_t have = available_memory_bytes();
+  if (need > have) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, ": this job needs about %.2f GiB, more than the %.2f GiB of memory available",
+                  double(need) / double(1ull << 30), double(have) / double(1ull << 30));
+    throw InputError(what + msg + " (ask for fewer --particles, or crop or downsample the volume)");
+  }
+}
+
+}  // namespace mpumesh
