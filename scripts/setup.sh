@@ -14,8 +14,9 @@ PACKAGES=(
   libinsighttoolkit5-dev zlib1g-dev
   # command line, JSON, formatting, threads, neighbour search, images
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev libtbb-dev libnanoflann-dev libstb-dev
-  # tests (chromium: the HTML report opened in a real, headless browser)
-  libgtest-dev chromium
+  # tests (chromium: the HTML report opened in a real, headless browser; clang and its
+  # runtime: the libFuzzer targets)
+  libgtest-dev chromium clang libclang-rt-14-dev
   # sample data: the InVesalius head CT, pydicom's small real DICOM files
   invesalius-examples python3-pydicom
 )

@@ -2,11 +2,14 @@
 // mpumesh convert (volume format conversion, also to a DICOM series).
 #include <fmt/format.h>
 
+#include <array>
+#include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "common/error.h"
+#include "io/atomic_file.h"
 #include "io/volume_io.h"
 #include "vk/context.h"
 
@@ -51,7 +54,7 @@ void add_devices_command(CLI::App& app, CommonOptions& common, std::function<voi
 
 void add_convert_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
   struct Opts {
-    std::string input, output;
+    std::string input, output, size;
     bool dicom = false;
   };
   auto o = std::make_shared<Opts>();
@@ -60,10 +63,23 @@ void add_convert_command(CLI::App& app, CommonOptions& common, std::function<voi
   cmd->add_option("input", o->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
   cmd->add_option("-o,--output", o->output, ".nii, .nii.gz, .nrrd, .mha, or a directory with --dicom")->required();
   cmd->add_flag("--dicom", o->dicom, "write a DICOM series (one file per slice) into the output directory");
+  cmd->add_option("--size", o->size,
+                  "XxYxZ: resample (trilinear) to this many voxels over the same extent, e.g. 512x512x324");
   cmd->add_flag("--quiet,-q", common.quiet, "print nothing but errors");
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
+      if (!o->dicom) check_writable(o->output);
+      std::array<int64_t, 3> dims{};
+      if (!o->size.empty()) {
+        int n = 0;
+        long long x = 0, y = 0, z = 0;
+        if (std::sscanf(o->size.c_str(), "%lldx%lldx%lld%n", &x, &y, &z, &n) != 3 || size_t(n) != o->size.size() ||
+            x < 2 || y < 2 || z < 2 || x > 8192 || y > 8192 || z > 8192)
+          throw InputError("--size: '" + o->size + "' is not XxYxZ with whole numbers from 2 to 8192");
+        dims = {x, y, z};
+      }
       Volume v = read_volume(o->input);
+      if (!o->size.empty()) v = resample(v, dims);
       if (o->dicom) write_dicom_series(v, o->output);
       else write_volume(v, o->output);
       if (!common.quiet)

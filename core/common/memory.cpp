@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -34,7 +35,7 @@ uint64_t peak_rss_bytes() {
 }
 
 uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles) {
-  return uint64_t(voxels) * 24 + uint64_t(points) * 2400 + uint64_t(particles) * 3000 + (64ull << 20);
+  return (64ull << 20) + std::max(uint64_t(voxels) * 12, uint64_t(points) * 700) + uint64_t(particles) * 3000;
 }
 
 void check_memory(const std::string& what, uint64_t need) {

@@ -12,6 +12,10 @@ namespace mpumesh {
 // gunzip of a whole buffer (concatenated members allowed); InputError on corrupt data.
 std::string gunzip(const std::string& gz, const std::string& name, uint64_t max_bytes);
 
+// gzip of a whole buffer (fast level): for tests and the .inv3 fuzz target, which build
+// archives in memory.
+std::string gzip(const std::string& bytes);
+
 // File name (without leading directories) to contents.
 std::map<std::string, std::string> untar(const std::string& tar, const std::string& name);
 

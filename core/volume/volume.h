@@ -30,11 +30,16 @@ struct Volume {
   }
 };
 
-// Checks the invariants every stage relies on; throws InputError naming `what`.
 // Throws InputError unless the volume has at least 2 voxels along every axis (a 2D image
 // or a single slice cannot hold a closed surface).
 void require_3d(const Volume& v);
 
+// Checks the invariants every stage relies on; throws InputError naming `what`.
 void validate_volume(const Volume& v, const std::string& what);
+
+// The same physical extent on a grid of `dims` voxels (trilinear; voxel centres keep
+// their places: new spacing = old spacing x old dims / new dims). Values are rounded when
+// every input value is a whole number (CT in HU), so the result stores as int16.
+Volume resample(const Volume& v, std::array<int64_t, 3> dims);
 
 }  // namespace mpumesh

@@ -152,3 +152,46 @@ TEST(VolumeIo, TruncatedDicomIsRefused) {
 
 }  // namespace
 }  // namespace mpumesh
+
+namespace mpumesh {
+namespace {
+
+// Trilinear resampling reproduces a linear field at the new voxel centres (inside the old
+// grid's centres), keeps the extent, and rounds whole-number (HU) input.
+TEST(Resample, LinearFieldAndExtentAreKept) {
+  Volume v;
+  v.dims = {10, 8, 6};
+  v.spacing = {0.8, 0.9, 2.0};
+  v.origin = {-3, 4, 10};
+  v.voxels.resize(size_t(v.voxel_count()));
+  auto field = [](const Eigen::Vector3d& p) { return 0.5 * p.x() - 0.25 * p.y() + 0.125 * p.z(); };
+  for (int64_t k = 0; k < 6; ++k)
+    for (int64_t j = 0; j < 8; ++j)
+      for (int64_t i = 0; i < 10; ++i)
+        v.voxels[size_t(v.index(i, j, k))] = float(field(v.index_to_physical(Eigen::Vector3d(i, j, k))));
+  const Volume r = resample(v, {20, 16, 18});
+  EXPECT_NEAR(r.spacing.x(), 0.4, 1e-12);
+  EXPECT_NEAR(r.spacing.z(), 2.0 / 3.0, 1e-12);
+  // The extent (outer faces of the voxels) is the same.
+  const Eigen::Vector3d lo_v = v.origin - v.spacing / 2, lo_r = r.origin - r.spacing / 2;
+  EXPECT_LT((lo_v - lo_r).norm(), 1e-9);
+  int checked = 0;
+  for (int64_t k = 0; k < 18; ++k)
+    for (int64_t j = 0; j < 16; ++j)
+      for (int64_t i = 0; i < 20; ++i) {
+        const Eigen::Vector3d p = r.index_to_physical(Eigen::Vector3d(i, j, k));
+        const Eigen::Vector3d u = (p - v.origin).cwiseQuotient(v.spacing);
+        if ((u.array() < 0).any() || u.x() > 9 || u.y() > 7 || u.z() > 5) continue;  // clamped at the border
+        EXPECT_NEAR(r.at(i, j, k), field(p), 1e-5);
+        ++checked;
+      }
+  EXPECT_GT(checked, 3000);
+  // Whole numbers in, whole numbers out.
+  Volume hu = v;
+  for (float& x : hu.voxels) x = std::round(x * 100);
+  for (float x : resample(hu, {7, 9, 11}).voxels) EXPECT_EQ(x, std::round(x));
+  EXPECT_THROW(resample(v, {0, 4, 4}), InputError);
+}
+
+}  // namespace
+}  // namespace mpumesh

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# The full-resolution case: the sample CT resampled (trilinear, same extent) to
+# 512 x 512 x 324 voxels of 0.4785 x 0.4785 x 0.5 mm by
+#   mpumesh convert Cranium.inv3 -o cranium512.mha --size 512x512x324
+# then the whole run on it, with every stage's time, the peak memory (getrusage) and the
+# estimate the run checked before its long work. Targets: under 4 GiB and 2 minutes.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BIN=${BUILD_DIR:-build}/tools/mpumesh
+out=${OUT_DIR:-out/large}
+mkdir -p "$out"
+src=/usr/share/doc/invesalius-examples/examples/Cranium.inv3
+[ -f "$out/cranium512.mha" ] || "$BIN" convert "$src" -o "$out/cranium512.mha" --size 512x512x324
+start=$(date +%s.%N)
+"$BIN" run "$out/cranium512.mha" --threshold 226 -o "$out/skull512.ply" --report "$out/skull512.json" \
+  --no-self-intersections --quiet "$@"
+end=$(date +%s.%N)
+/usr/bin/python3 - "$out/skull512.json" "$start" "$end" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+wall = float(sys.argv[3]) - float(sys.argv[2])
+print("512 x 512 x 324 (0.4785 x 0.4785 x 0.5 mm), bone at 226 HU, on", j["backend"]["device"])
+print("%-12s %8s" % ("stage", "s"))
+for k, v in sorted(j["stage_seconds"].items(), key=lambda kv: -kv[1]):
+    print("%-12s %8.2f" % (k, v))
+m = j["memory"]
+print("points %d, leaves %d, particles %d, triangles %d" % (j["points"], j["fit"]["leaves"],
+      j["particles"]["particles"], j["triangles"]))
+print("wall %.1f s (target 120 s); peak memory %.2f GiB (target 4), estimated %.2f GiB, available %.1f GiB"
+      % (wall, m["peak_rss_gib"], m["estimate_gib"], m["available_gib"]))
+print("closed %s, oriented %s" % (j["quality"]["closed"], j["quality"]["oriented"]))
+PY

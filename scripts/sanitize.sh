@@ -1,0 +1,25 @@
+#!/usr/bin/env bash
+# The test suite built with AddressSanitizer and UndefinedBehaviorSanitizer (gcc, -O1,
+# line tables) in build-asan/, run on the small synthetic phantoms: the tests on the real
+# CT and the benchmark-sized runs are left to the Release suite (scripts/test.sh) to stay
+# inside CI's time. Any sanitizer report fails the test that triggered it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${ASAN_BUILD_DIR:-build-asan}
+cmake -S . -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMPUMESH_SANITIZE=ON \
+  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" >/dev/null
+cmake --build "$build" -j "$(nproc)"
+# Mesa's lavapipe and LLVM keep allocations until exit; the leak check covers our code.
+supp=$(mktemp)
+printf 'leak:libvulkan_lvp\nleak:libLLVM\nleak:libVkLayer_khronos_validation\nleak:libvulkan.so\nleak:libdbus\n' >"$supp"
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_string_checks=1}
+export LSAN_OPTIONS=suppressions=$supp
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export MPUMESH_REQUIRE_VULKAN=${MPUMESH_REQUIRE_VULKAN:-1}
+skip='SampleCt|OnTheSampleCt|SampleCtIsTheSame|Browser|RunRemeshes|InterruptedRun|ThinPlate|Ellipsoid'
+ctest --test-dir "$build" -j "$(nproc)" --output-on-failure --timeout 1800 -E "$skip|RenderBackends"
+# The graphics pipeline tests: lavapipe leaves 112 bytes in 2 allocations from its
+# draw path, reported from a module unloaded at exit (so no suppression can name it);
+# they run with the leak check off, every other check on.
+ASAN_OPTIONS=${ASAN_OPTIONS/detect_leaks=1/detect_leaks=0} \
+  ctest --test-dir "$build" -j "$(nproc)" --output-on-failure --timeout 1800 -R RenderBackends
