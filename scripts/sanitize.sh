@@ -16,7 +16,9 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_strin
 export LSAN_OPTIONS=suppressions=$supp
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 export MPUMESH_REQUIRE_VULKAN=${MPUMESH_REQUIRE_VULKAN:-1}
-skip='SampleCt|OnTheSampleCt|SampleCtIsTheSame|Browser|RunRemeshes|InterruptedRun|ThinPlate|Ellipsoid'
+# The fit's accuracy runs on one shape (sphere slices) here; the other five take 3 of
+# the sanitized suite's 4 minutes and run in the Release suite.
+skip='SampleCt|OnTheSampleCt|SampleCtIsTheSame|Browser|RunRemeshes|InterruptedRun|ThinPlate|Ellipsoid|FitsTheTrueSurface/(torus|ellipsoid|sphere_dense)'
 ctest --test-dir "$build" -j "$(nproc)" --output-on-failure --timeout 1800 -E "$skip|RenderBackends"
 # The graphics pipeline tests: lavapipe leaves 112 bytes in 2 allocations from its
 # draw path, reported from a module unloaded at exit (so no suppression can name it);

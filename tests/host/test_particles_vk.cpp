@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
+#include "common/error.h"
 #include "compute/cpu_backend.h"
 #include "mpu/mpu_fit.h"
 #include "particles/particle_system.h"
@@ -30,6 +32,32 @@ Fitted fitted_ellipsoid() {
   f.cloud = test::sample_shape(f.shape, 0.5, 0.5, true);
   f.surface = mpu::fit_mpu(f.cloud, {});
   return f;
+}
+
+// A surface that turns to NaN after seeding (a broken kernel or fit): both backends mark
+// the NaN evaluations and the finiteness check reports them with the iteration, instead of
+// treating the particles as merely lost.
+TEST(ParticlesVk, NanEvaluationIsReportedOnBothBackends) {
+  MPUMESH_VULKAN_OR_SKIP(gpu);
+  const Fitted f = fitted_ellipsoid();
+  CpuBackend cpu;
+  particles::SampleOptions o;
+  o.particles = 1500;
+  o.iterations = 5;
+  const ParticleState start = particles::sample_surface(f.surface, f.cloud.positions, o, cpu);
+  mpu::MpuSurface broken = f.surface;
+  for (auto& leaf : broken.leaves)
+    if (leaf.centre.x() > 20) leaf.coeffs.fill(std::numeric_limits<double>::quiet_NaN());
+  const particles::StepParams p = particles::batch_params(o.step, start);
+  for (ComputeBackend* b : {static_cast<ComputeBackend*>(&cpu), static_cast<ComputeBackend*>(gpu.get())}) {
+    ParticleState st = start;
+    b->particle_iterations(broken, st, p, 5);
+    EXPECT_THROW(particles::check_finite(st, 10, *b), NumericalError) << b->device();
+    st = start;
+    b->particle_iterations(f.surface, st, p, 5);
+    EXPECT_NO_THROW(particles::check_finite(st, 10, *b)) << b->device();
+  }
+  test::expect_no_validation_messages(*gpu);
 }
 
 TEST(ParticlesVk, OneStepMatchesTheReference) {
