@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
+#include <thread>
 
 #include "common/error.h"
 
@@ -35,7 +36,9 @@ uint64_t peak_rss_bytes() {
 }
 
 uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles) {
-  return (64ull << 20) + std::max(uint64_t(voxels) * 12, uint64_t(points) * 700) + uint64_t(particles) * 3000;
+  const uint64_t threads = std::max(2u, std::thread::hardware_concurrency());
+  return (64ull << 20) + std::max(uint64_t(voxels) * 12, uint64_t(points) * 700) + uint64_t(particles) * 3000 +
+         (threads - 2) * (75ull << 20);
 }
 
 void check_memory(const std::string& what, uint64_t need) {

@@ -18,9 +18,11 @@ uint64_t peak_rss_bytes();
 // points (0 when not known yet) and `particles`: 64 MB, plus the larger of the volume stage
 // (intensities, threshold field, mask, labels: 12 B a voxel) and the fit (points, k-d
 // tree, MPU leaves and lookup grid: 700 B a point), plus the particles and their Delaunay
-// triangulation (3 kB each). Measured peaks on this machine: the sample CT (7.1 M voxels,
-// 260 k points, 30 k particles) 0.39 GB against 0.34 GB estimated; resampled to
-// 512 x 512 x 324 (85 M voxels, 1.46 M points, 25 k particles) 1.11 GB against 1.16 GB.
+// triangulation (3 kB each), plus 75 MB for each hardware thread beyond two (the threads'
+// scratch). Measured peaks: on this 2-core machine the sample CT (7.1 M voxels, 260 k
+// points, 30 k particles) 0.39 GB against 0.34 GB estimated, and resampled to
+// 512 x 512 x 324 (85 M voxels, 1.46 M points, 25 k particles) 1.11 GB against 1.16 GB;
+// the latter on a 16-thread host 2.06 GB (CPU path) and 2.36 GB (GPU) against 2.15 GB.
 uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles);
 
 // Throws InputError naming `what` when the estimate exceeds the memory available.

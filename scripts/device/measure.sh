@@ -39,4 +39,14 @@ if [[ $step == all || $step == render ]]; then
       --backend $be --json | grep -A12 stage_seconds | tr -d '\n '; echo " ($be)"
   done
 fi
+if [[ $step == all || $step == large ]]; then
+  # The full-resolution case (scripts/bench_large.sh) on both backends.
+  $B/bin/mpumesh convert $ct -o /tmp/cranium512.mha --size 512x512x324 --quiet
+  for be in gpu cpu; do
+    $B/bin/mpumesh run /tmp/cranium512.mha --threshold 226 -o /tmp/skull512_$be.ply --report "$OUT/large_$be.json" \
+      --no-self-intersections --quiet --backend $be
+    /usr/bin/python3 -c "import json,sys; j=json.load(open(sys.argv[1])); print(sys.argv[2], j['stage_seconds'], j['memory'])" \
+      "$OUT/large_$be.json" $be
+  done
+fi
 
