@@ -33,15 +33,7 @@ nlohmann::json backend_json(const vk::BackendChoice& choice) {
   return {{"kind", choice.backend->kind()}, {"device", choice.backend->device()}, {"note", choice.note}};
 }
 
-void write_json_file(const nlohmann::json& j, const std::string& path) {
-  AtomicFile out(path);
-  {
-    std::ofstream os(out.temp_path());
-    os << j.dump(2) << '\n';
-    if (!os) throw InputError(path + ": write failed");
-  }
-  out.commit();
-}
+void write_json_file(const nlohmann::json& j, const std::string& path) { write_file_atomically(j.dump(2) + '\n', path); }
 
 nlohmann::json stage_json(const Progress& p) {
   nlohmann::json s = nlohmann::json::object();

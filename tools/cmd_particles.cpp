@@ -364,7 +364,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
         in.ours = {std::filesystem::path(o->output).filename().string() + " (ours)", &mesh};
         for (const auto& [name, m] : baselines) in.baselines.push_back({name, &m});
         in.run = j;
-        write_text_file(build_report(in, *choice.backend), o->html);
+        write_file_atomically(build_report(in, *choice.backend), o->html);
         progress.end();
         j["html"] = o->html;
       }

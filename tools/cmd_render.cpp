@@ -138,7 +138,7 @@ void add_report_command(CLI::App& app, CommonOptions& common, std::function<void
       in.run = run;
       const std::string html = build_report(in, *choice.backend);
       progress.end();
-      write_text_file(html, o->output);
+      write_file_atomically(html, o->output);
       if (common.json)
         std::cout << nlohmann::json{{"output", o->output}, {"bytes", html.size()}, {"stage_seconds", stage_json(progress)}}
                          .dump(2)

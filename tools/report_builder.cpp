@@ -4,12 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <numeric>
 #include <unordered_map>
 
 #include "common/error.h"
-#include "io/atomic_file.h"
 #include "mesh/quality.h"
 #include "mesh/surface_attributes.h"
 #include "render/mesh_render_vk.h"
@@ -280,18 +278,6 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
     page.pre(params.dump(2));
   }
   return page.html();
-}
-
-void write_text_file(const std::string& text, const std::string& path) {
-  AtomicFile out(path);
-  {
-    std::ofstream os(out.temp_path(), std::ios::binary);
-    if (!os) throw InputError(path + ": cannot open for writing");
-    os << text;
-    os.flush();
-    if (!os) throw InputError(path + ": write failed (disk full?)");
-  }
-  out.commit();
 }
 
 }  // namespace mpumesh::tools

@@ -28,7 +28,4 @@ struct ReportInputs {
 
 std::string build_report(const ReportInputs& in, ComputeBackend& backend);
 
-// Writes the page atomically.
-void write_text_file(const std::string& text, const std::string& path);
-
 }  // namespace mpumesh::tools

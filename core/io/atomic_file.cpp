@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "common/error.h"
 
@@ -60,6 +61,18 @@ void AtomicFile::commit() {
     throw InputError(target_ + ": cannot write (" + std::strerror(errno) + ")");
   untrack(temp_.c_str());
   committed_ = true;
+}
+
+void write_file_atomically(const std::string& bytes, const std::string& path) {
+  AtomicFile out(path);
+  {
+    std::ofstream os(out.temp_path(), std::ios::binary);
+    if (!os) throw InputError(path + ": cannot open for writing");
+    os.write(bytes.data(), std::streamsize(bytes.size()));
+    os.flush();
+    if (!os) throw InputError(path + ": write failed (disk full?)");
+  }
+  out.commit();
 }
 
 void check_writable(const std::string& path) {

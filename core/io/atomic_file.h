@@ -25,6 +25,9 @@ class AtomicFile {
   bool committed_ = false;
 };
 
+// Writes `bytes` to `path` through an AtomicFile; InputError naming `path` on failure.
+void write_file_atomically(const std::string& bytes, const std::string& path);
+
 // Fails with InputError naming `path` when its directory does not exist or is not
 // writable: call before long work starts.
 void check_writable(const std::string& path);

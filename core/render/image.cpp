@@ -1,7 +1,6 @@
 #include "render/image.h"
 
 #include <algorithm>
-#include <fstream>
 
 #include "common/error.h"
 #include "io/atomic_file.h"
@@ -65,17 +64,6 @@ std::string encode_png(const Image& img) {
   return out;
 }
 
-void write_png(const Image& img, const std::string& path) {
-  const std::string bytes = encode_png(img);
-  AtomicFile out(path);
-  {
-    std::ofstream os(out.temp_path(), std::ios::binary);
-    if (!os) throw InputError(path + ": cannot open for writing");
-    os.write(bytes.data(), std::streamsize(bytes.size()));
-    os.flush();
-    if (!os) throw InputError(path + ": write failed (disk full?)");
-  }
-  out.commit();
-}
+void write_png(const Image& img, const std::string& path) { write_file_atomically(encode_png(img), path); }
 
 }  // namespace mpumesh::render
