@@ -187,7 +187,8 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   std::vector<report::HtmlPage::Figure> figs;
   figs.push_back({render_png(backend, ours, ro), "Gaussian curvature K (" + k_source + "), view (1,-1,1)"});
   ro.view = Eigen::Vector3d(-1, 1, 1).normalized();
-  figs.push_back({render_png(backend, ours, ro), "Gaussian curvature K (" + k_source + "), view (-1,1,1)"});
+  ro.wireframe = true;
+  figs.push_back({render_png(backend, ours, ro), "Gaussian curvature K (" + k_source + "), view (-1,1,1), with edges"});
   page.figures(figs);
   figs.clear();
   ro.color = render::ColorBy::kMinAngle;
