@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <unordered_map>
 
 #include "common/error.h"
 #include "mesh/quality.h"
 #include "mesh/surface_attributes.h"
+#include "particles/spacing_stats.h"
 #include "render/mesh_render_vk.h"
 #include "render/render_scene.h"
 #include "report/html_report.h"
@@ -108,28 +108,6 @@ Region pick_region(const TriangleMesh& m) {
 std::string render_png(ComputeBackend& backend, const TriangleMesh& m, render::RenderOptions ro) {
   const render::RenderScene scene = render::build_scene(m, ro);
   return render::encode_png(vk::render_image(backend, scene));
-}
-
-double spearman(const std::vector<double>& a, const std::vector<double>& b) {
-  auto ranks = [](const std::vector<double>& v) {
-    std::vector<size_t> idx(v.size());
-    std::iota(idx.begin(), idx.end(), 0);
-    std::sort(idx.begin(), idx.end(), [&](size_t i, size_t j) { return v[i] < v[j]; });
-    std::vector<double> r(v.size());
-    for (size_t k = 0; k < idx.size(); ++k) r[idx[k]] = double(k);
-    return r;
-  };
-  const std::vector<double> ra = ranks(a), rb = ranks(b);
-  const double n = double(a.size());
-  if (n < 3) return 0;
-  const double mean = (n - 1) / 2;
-  double sab = 0, saa = 0, sbb = 0;
-  for (size_t i = 0; i < a.size(); ++i) {
-    sab += (ra[i] - mean) * (rb[i] - mean);
-    saa += (ra[i] - mean) * (ra[i] - mean);
-    sbb += (rb[i] - mean) * (rb[i] - mean);
-  }
-  return sab / std::sqrt(saa * sbb);
 }
 
 std::string fmt_num(const nlohmann::json& j) {
@@ -245,7 +223,7 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   std::vector<double> absk, spacing;
   for (size_t i = 0; i < ours.vertices.size(); ++i)
     if (len_n[i] > 0) absk.push_back(std::abs(double(ours.curvature[i][2]))), spacing.push_back(len_sum[i] / len_n[i]);
-  const double rho = spearman(absk, spacing);
+  const double rho = particles::rank_correlation(absk, spacing);
   std::vector<double> sx, sy;
   const size_t stride = std::max<size_t>(1, absk.size() / 4000);
   for (size_t i = 0; i < absk.size(); i += stride) sx.push_back(absk[i]), sy.push_back(spacing[i]);

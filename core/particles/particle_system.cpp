@@ -243,7 +243,7 @@ std::vector<Eigen::Vector3d> leaf_candidates(const mpu::MpuSurface& s) {
   return c;
 }
 
-void check_finite(const ParticleState& st, int iteration, const ComputeBackend& backend) {
+void check_finite(const ParticleState& st, int iteration, const std::string& device) {
   size_t bad = 0;
   for (size_t i = 0; i < st.size(); ++i)
     // Curvature is NaN only when the evaluation gave NaN (a lost particle, with ∇f = 0,
@@ -253,7 +253,7 @@ void check_finite(const ParticleState& st, int iteration, const ComputeBackend& 
   if (bad)
     throw NumericalError("particles: " + std::to_string(bad) + " of " + std::to_string(st.size()) +
                          " particles have a non-finite position, size or energy after iteration " +
-                         std::to_string(iteration) + " on " + backend.device() +
+                         std::to_string(iteration) + " on " + device +
                          " (the surface or a kernel produced NaN); nothing was written");
 }
 
@@ -290,7 +290,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     StepParams proj = opt.step;
     proj.newton_steps = 8;
     project_step(s, pool, proj);
-    check_finite(pool, 0, backend);
+    check_finite(pool, 0, "the CPU (seeding)");  // project_step is the CPU reference
     // Keep those that reached the surface near where they started.
     size_t m = 0;
     for (size_t k = 0; k < pool.size(); ++k) {
@@ -397,7 +397,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     thickness[k] = thick[i];
   }
   stats.seeds = int64_t(st.size());
-  check_finite(st, 0, backend);
+  check_finite(st, 0, "the CPU (seeding)");
   const int64_t cap = opt.max_particles > 0 ? opt.max_particles : 8 * int64_t(st.size()) + 10000;
   stats.seconds_seed = seconds_since(t_seed);
 
@@ -410,7 +410,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     const auto t_iter = Clock::now();
     backend.particle_iterations(s, st, batch_params(opt.step, st), batch);
     it += batch;
-    check_finite(st, it, backend);
+    check_finite(st, it, backend.device());
     stats.seconds_iterate += seconds_since(t_iter);
     const auto t_pop = Clock::now();
     ++update;

@@ -56,8 +56,8 @@ struct SampleOptions {
 // Throws InputError naming the option as `command` spells it (run calls the iteration cap
 // --particle-iterations).
 // Throws NumericalError naming the iteration and the device when a particle's position,
-// σ or energy is not finite (checked after seeding and after every batch).
-void check_finite(const ParticleState& st, int iteration, const ComputeBackend& backend);
+// σ, energy or curvature is not finite (checked after seeding and after every batch).
+void check_finite(const ParticleState& st, int iteration, const std::string& device);
 
 void validate(const SampleOptions& o, const std::string& command = "sample",
               const std::string& iterations_flag = "iterations");
