@@ -97,10 +97,12 @@ PointCloud particle_cloud(const particles::ParticleState& ps) {
 nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
   return {{"particles", st.particles},
           {"repair_points", st.repair_points},
+          {"repair_rounds", st.repair_rounds},
           {"unused_particles", st.unused_points},
           {"components_flipped", st.flipped_components},
           {"edge_flips", st.edge_flips},
           {"edge_collapses", st.edge_collapses},
+          {"cleanup_retries", st.cleanup_retries},
           {"seconds", st.seconds}};
 }
 

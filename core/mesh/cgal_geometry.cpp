@@ -21,7 +21,8 @@ Point to_cgal(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
 
 }  // namespace
 
-int64_t count_self_intersections(const TriangleMesh& mesh) {
+std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const TriangleMesh& mesh,
+                                                                 const std::vector<uint32_t>* among) {
   // CGAL 5.5 (Debian 12) has no triangle-soup variant of PMP::self_intersections, and the
   // meshes measured here may be non-manifold; so: bounding-box pairs, then exact
   // predicates by how many vertices the two triangles share, as PMP does internally.
@@ -29,15 +30,21 @@ int64_t count_self_intersections(const TriangleMesh& mesh) {
   pts.reserve(mesh.vertices.size());
   for (const auto& v : mesh.vertices) pts.push_back(to_cgal(v));
   using Box = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, size_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
-  std::vector<Box> boxes;
-  boxes.reserve(mesh.triangles.size());
-  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
-    const auto& t = mesh.triangles[f];
-    if (CGAL::collinear(pts[t[0]], pts[t[1]], pts[t[2]])) continue;  // degenerate: counted by topology
-    boxes.emplace_back(pts[t[0]].bbox() + pts[t[1]].bbox() + pts[t[2]].bbox(), f);
-  }
-  int64_t count = 0;
+  auto make_boxes = [&](auto&& ids, size_t n) {
+    std::vector<Box> boxes;
+    boxes.reserve(n);
+    for (size_t k = 0; k < n; ++k) {
+      const size_t f = ids(k);
+      const auto& t = mesh.triangles[f];
+      if (CGAL::collinear(pts[t[0]], pts[t[1]], pts[t[2]])) continue;  // degenerate: counted by topology
+      boxes.emplace_back(pts[t[0]].bbox() + pts[t[1]].bbox() + pts[t[2]].bbox(), f);
+    }
+    return boxes;
+  };
+  std::vector<Box> boxes = make_boxes([](size_t k) { return k; }, mesh.triangles.size());
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
   auto test = [&](const Box& ba, const Box& bb) {
+    if (ba.handle() == bb.handle()) return;
     const auto& a = mesh.triangles[ba.handle()];
     const auto& b = mesh.triangles[bb.handle()];
     int shared = 0, ia = -1, ib = -1;
@@ -71,10 +78,22 @@ int64_t count_self_intersections(const TriangleMesh& mesh) {
     } else {
       hit = true;  // the same triangle twice
     }
-    count += hit;
+    if (hit) pairs.emplace_back(uint32_t(std::min(ba.handle(), bb.handle())), uint32_t(std::max(ba.handle(), bb.handle())));
   };
-  CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), test);
-  return count;
+  if (!among) {
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), test);
+  } else {
+    std::vector<Box> some = make_boxes([&](size_t k) { return size_t((*among)[k]); }, among->size());
+    CGAL::box_intersection_d(some.begin(), some.end(), boxes.begin(), boxes.end(), test);
+    // A pair of two listed triangles is reported twice (once from each side).
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  }
+  return pairs;
+}
+
+int64_t count_self_intersections(const TriangleMesh& mesh) {
+  return int64_t(intersecting_triangles(mesh, nullptr).size());
 }
 
 namespace {

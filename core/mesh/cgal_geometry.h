@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "mesh/triangle_mesh.h"
@@ -12,6 +13,10 @@ namespace mpumesh {
 // Pairs of triangles that intersect other than through shared vertices or edges
 // (CGAL Polygon_mesh_processing::self_intersections on the triangle soup).
 int64_t count_self_intersections(const TriangleMesh& mesh);
+// The intersecting pairs (i < j) themselves; with `among`, only pairs in which at least one
+// triangle is listed.
+std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const TriangleMesh& mesh,
+                                                                 const std::vector<uint32_t>* among = nullptr);
 
 // Distance (mm) from sample points of `from` to the surface `to`, with each sample's
 // area weight: per triangle its three vertices' area share and three interior points.

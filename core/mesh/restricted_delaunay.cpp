@@ -1,29 +1,190 @@
 #include "mesh/restricted_delaunay.h"
 
-#include <CGAL/Complex_2_in_triangulation_3.h>
-#include <CGAL/Implicit_surface_3.h>
-#include <CGAL/Surface_mesh_default_criteria_3.h>
-#include <CGAL/Surface_mesh_default_triangulation_3.h>
-#include <CGAL/make_surface_mesh.h>
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Delaunay_triangulation_cell_base_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Robust_circumcenter_traits_3.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <numeric>
 #include <queue>
 #include <unordered_map>
 
 #include "common/error.h"
+#include "mesh/cgal_geometry.h"
 #include "mesh/thin_triangles.h"
 #include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh {
 namespace {
 
-using Tr = CGAL::Surface_mesh_default_triangulation_3;
-using C2t3 = CGAL::Complex_2_in_triangulation_3<Tr>;
-using GT = Tr::Geom_traits;
-using Point = GT::Point_3;
-using Surface = CGAL::Implicit_surface_3<GT, std::function<GT::FT(Point)>>;
+// The circumcentre of a nearly flat tetrahedron is computed exactly and rounded
+// (Robust_circumcenter_traits_3), as CGAL's surface mesher does: the Voronoi vertices
+// decide which facets are restricted.
+using K = CGAL::Robust_circumcenter_traits_3<CGAL::Epick>;
+struct CellData {
+  double f = NAN;  // f at the circumcentre (NaN: not evaluated yet)
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<CellData, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
+using Dt = CGAL::Delaunay_triangulation_3<K, Tds>;
+using Point = K::Point_3;
+using Cell = Dt::Cell_handle;
+
+Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+bool inside(const Dt& dt, Cell c) { return !dt.is_infinite(c) && c->info().f < 0; }
+
+// A restricted facet: the facet of `cell` opposite vertex `i`, with `cell` inside and its
+// neighbour outside; v holds its vertex ids ordered so the normal points out.
+struct RFacet {
+  Cell cell;
+  int i;
+  std::array<uint32_t, 3> v;
+};
+
+// The Voronoi edge dual to facet (c, i) runs from c's circumcentre to its neighbour's (or,
+// for a facet of the convex hull, out along the facet's outward normal). Its crossing of
+// f = 0, by bisection to within 5 µm, from the inside end a (f < 0) to b (f >= 0).
+Eigen::Vector3d crossing(const mpu::MpuSurface& s, const Dt& dt, Cell c, int i) {
+  const Eigen::Vector3d a = vec(c->circumcenter(dt.geom_traits()));
+  const Cell n = c->neighbor(i);
+  Eigen::Vector3d b;
+  if (dt.is_infinite(n)) {
+    const Eigen::Vector3d p0 = vec(c->vertex((i + 1) & 3)->point()), p1 = vec(c->vertex((i + 2) & 3)->point()),
+                          p2 = vec(c->vertex((i + 3) & 3)->point()), pi = vec(c->vertex(i)->point());
+    Eigen::Vector3d dir = (p1 - p0).cross(p2 - p0);
+    if (dir.dot(pi - p0) > 0) dir = -dir;
+    b = a + dir.normalized() * (s.box_size * 2 + (a - 0.5 * (s.data_min + s.data_max)).norm());
+  } else {
+    b = vec(n->circumcenter(dt.geom_traits()));
+  }
+  Eigen::Vector3d lo = a, hi = b;
+  for (int k = 0; k < 60 && (hi - lo).squaredNorm() > 25e-6; ++k) {
+    const Eigen::Vector3d m = 0.5 * (lo + hi);
+    (mpu::evaluate_f(s, m) < 0 ? lo : hi) = m;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// f at the circumcentre of every finite cell not evaluated yet (new cells), in parallel;
+// marks the vertices of those cells in `touched` (by id).
+void evaluate_new_cells(const mpu::MpuSurface& s, Dt& dt, std::vector<char>& touched) {
+  std::vector<Cell> todo;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
+    if (std::isnan(c->info().f)) {
+      todo.push_back(c);
+      for (int k = 0; k < 4; ++k) touched[c->vertex(k)->info()] = 1;
+    }
+  std::vector<Eigen::Vector3d> centres(todo.size());
+  for (size_t k = 0; k < todo.size(); ++k) centres[k] = vec(todo[k]->circumcenter(dt.geom_traits()));
+  std::vector<double> f(todo.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) f[k] = mpu::evaluate_f(s, centres[k]);
+  });
+  for (size_t k = 0; k < todo.size(); ++k) {
+    if (!std::isfinite(f[k]))
+      throw NumericalError("triangulate: the surface is not finite (f = " + std::to_string(f[k]) + ") at (" +
+                           std::to_string(centres[k].x()) + ", " + std::to_string(centres[k].y()) + ", " +
+                           std::to_string(centres[k].z()) + ")");
+    todo[k]->info().f = f[k];
+  }
+}
+
+// The restricted facets: between an inside cell (f < 0 at its circumcentre) and an outside
+// one (f >= 0, or infinite). They bound a union of tetrahedra, so every edge has an even
+// number of them and the normals (inside to outside) agree along every edge.
+void add_restricted_facets(const Dt& dt, Cell c, std::vector<RFacet>& out) {
+  if (!inside(dt, c)) return;
+  const auto orientation = dt.geom_traits().orientation_3_object();
+  for (int i = 0; i < 4; ++i) {
+    if (inside(dt, c->neighbor(i))) continue;
+    auto a = c->vertex((i + 1) & 3), b = c->vertex((i + 2) & 3), d = c->vertex((i + 3) & 3);
+    if (orientation(a->point(), b->point(), d->point(), c->vertex(i)->point()) == CGAL::POSITIVE) std::swap(b, d);
+    out.push_back({c, i, {a->info(), b->info(), d->info()}});
+  }
+}
+
+std::vector<RFacet> restricted_facets(const Dt& dt) {
+  std::vector<RFacet> out;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) add_restricted_facets(dt, c, out);
+  return out;
+}
+
+// The restricted facets of the cells around the vertices marked in `touched`, each once.
+std::vector<RFacet> restricted_facets_near(const Dt& dt, const std::vector<char>& touched) {
+  std::vector<Cell> cells;
+  for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v)
+    if (touched[v->info()]) dt.finite_incident_cells(v, std::back_inserter(cells));
+  std::sort(cells.begin(), cells.end());
+  cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
+  std::vector<RFacet> out;
+  for (Cell c : cells) add_restricted_facets(dt, c, out);
+  return out;
+}
+
+// The facets around each non-manifold edge (more than two facets) and around each
+// non-manifold vertex (its facets form more than one fan), one group per element; only
+// elements at a vertex marked in `check` (which must list every facet at those vertices).
+std::vector<std::vector<uint32_t>> non_manifold_groups(const std::vector<RFacet>& facets,
+                                                       const std::vector<char>& check) {
+  std::vector<std::vector<uint32_t>> groups;
+  std::vector<std::pair<uint64_t, uint32_t>> edges;
+  edges.reserve(3 * facets.size());
+  for (uint32_t f = 0; f < facets.size(); ++f)
+    for (int e = 0; e < 3; ++e) edges.emplace_back(edge_key(facets[f].v[size_t(e)], facets[f].v[size_t((e + 1) % 3)]), f);
+  std::sort(edges.begin(), edges.end());
+  for (size_t a = 0, b; a < edges.size(); a = b) {
+    for (b = a + 1; b < edges.size() && edges[b].first == edges[a].first;) ++b;
+    const uint64_t key = edges[a].first;
+    if (b - a > 2 && (check[uint32_t(key >> 32)] || check[uint32_t(key)])) {
+      groups.emplace_back();
+      for (size_t k = a; k < b; ++k) groups.back().push_back(edges[k].second);
+    }
+  }
+  // Fans: facets of a vertex joined through the edges they share.
+  std::vector<std::pair<uint32_t, uint32_t>> star;  // (vertex, facet)
+  star.reserve(3 * facets.size());
+  for (uint32_t f = 0; f < facets.size(); ++f)
+    for (uint32_t v : facets[f].v) star.emplace_back(v, f);
+  std::sort(star.begin(), star.end());
+  std::vector<std::pair<uint32_t, uint32_t>> spokes;  // (other vertex, local facet)
+  std::vector<uint32_t> parent;
+  for (size_t a = 0, b; a < star.size(); a = b) {
+    for (b = a + 1; b < star.size() && star[b].first == star[a].first;) ++b;
+    const uint32_t v = star[a].first, n = uint32_t(b - a);
+    if (!check[v]) continue;
+    spokes.clear();
+    parent.resize(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    for (uint32_t k = 0; k < n; ++k)
+      for (uint32_t w : facets[star[a + k].second].v)
+        if (w != v) spokes.emplace_back(w, k);
+    std::sort(spokes.begin(), spokes.end());
+    auto root = [&](uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    uint32_t fans = n;
+    for (size_t k = 1; k < spokes.size(); ++k)
+      if (spokes[k].first == spokes[k - 1].first) {
+        const uint32_t x = root(spokes[k].second), y = root(spokes[k - 1].second);
+        if (x != y) parent[x] = y, --fans;
+      }
+    if (fans > 1) {
+      groups.emplace_back();
+      for (size_t k = a; k < b; ++k) groups.back().push_back(star[k].second);
+    }
+  }
+  return groups;
+}
 
 }  // namespace
 
@@ -78,82 +239,157 @@ int64_t orient_components(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>
 }
 
 TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
-                                 RestrictedDelaunayStats* stats_out) {
+                                 RestrictedDelaunayStats* stats_out, int64_t max_repair_points) {
   const auto t0 = std::chrono::steady_clock::now();
   RestrictedDelaunayStats stats;
   stats.particles = int64_t(points.size());
   if (points.size() < 4) throw InputError("triangulate: fewer than 4 particles");
-  Tr tr;
-  std::vector<Point> pts;
-  pts.reserve(points.size());
-  for (const auto& p : points) pts.emplace_back(p.x(), p.y(), p.z());
-  tr.insert(pts.begin(), pts.end());
-  // The bounding sphere holds the data box; the oracle's bisection stops within 5 µm of
-  // f = 0 (its bound is relative to the sphere's radius). The crossings it finds place
-  // only the repair points; each halving is an evaluation of f, about half of them all.
-  const Eigen::Vector3d centre = 0.5 * (s.data_min + s.data_max);
-  const double radius = 0.5 * (s.data_max - s.data_min).norm() * 1.1 + 1e-6;
-  // f at every Voronoi vertex (finite cell's circumcentre), computed in parallel up
-  // front: the mesher's scan tests each Voronoi edge's two ends, and each vertex ends
-  // four edges. The oracle looks them up and evaluates only bisection points.
-  std::vector<Point> centres;
-  centres.reserve(tr.number_of_finite_cells());
-  for (auto c = tr.finite_cells_begin(); c != tr.finite_cells_end(); ++c) centres.push_back(tr.dual(c));
-  std::vector<double> fc(centres.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, centres.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i)
-      fc[i] = mpu::evaluate_f(s, Eigen::Vector3d(centres[i].x(), centres[i].y(), centres[i].z()));
-  });
-  std::unordered_map<Point, double> cache;
-  cache.reserve(centres.size());
-  for (size_t i = 0; i < centres.size(); ++i) cache.emplace(centres[i], fc[i]);
-  Surface surface(
-      [&s, &cache](Point p) {
-        const auto it = cache.find(p);
-        return it != cache.end() ? it->second : mpu::evaluate_f(s, Eigen::Vector3d(p.x(), p.y(), p.z()));
-      },
-      GT::Sphere_3(Point(centre.x(), centre.y(), centre.z()), radius * radius), 0.005 / radius);
-  // No refinement criterion: only the manifold repair adds points.
-  CGAL::Surface_mesh_default_criteria_3<Tr> criteria(0.0, 1e30, 1e30);
-  C2t3 c2t3(tr);
-  CGAL::make_surface_mesh(c2t3, surface, criteria, CGAL::Manifold_tag(), 0);
-
-  // Vertices: the given points that the complex uses, in their order, then the added ones.
-  std::unordered_map<Point, int64_t> given;  // position -> input index (inserted as given)
-  given.reserve(points.size());
-  for (size_t i = 0; i < pts.size(); ++i) given.emplace(pts[i], int64_t(i));
-  std::map<Tr::Vertex_handle, uint32_t> index;
-  std::vector<std::pair<int64_t, Tr::Vertex_handle>> used;  // (order key, vertex)
-  for (auto it = c2t3.facets_begin(); it != c2t3.facets_end(); ++it)
-    for (int k = 1; k <= 3; ++k) {
-      const Tr::Vertex_handle v = it->first->vertex((it->second + k) & 3);
-      if (index.emplace(v, 0).second) {
-        const auto g = given.find(v->point());
-        used.emplace_back(g != given.end() ? g->second : int64_t(points.size()) + int64_t(used.size()), v);
+  if (points.size() >= (size_t(1) << 31)) throw InputError("triangulate: too many particles");
+  Dt dt;
+  {
+    std::vector<std::pair<Point, uint32_t>> pts;
+    pts.reserve(points.size());
+    for (size_t i = 0; i < points.size(); ++i)
+      pts.emplace_back(Point(points[i].x(), points[i].y(), points[i].z()), uint32_t(i));
+    dt.insert(pts.begin(), pts.end());
+  }
+  // Manifold repair, as CGAL's surface mesher does with its Manifold_tag, but bounded and
+  // repeatable: while some edge has more than two restricted facets or some vertex more
+  // than one fan, each such element gets a point where the Voronoi edge of its largest
+  // facet (the one whose surface Delaunay ball, centred on that crossing, is widest)
+  // crosses f = 0; the cells that the new points replace are evaluated, and the facets
+  // found again.
+  const size_t max_repair =
+      max_repair_points > 0 ? size_t(max_repair_points) : std::max<size_t>(20000, points.size());
+  // After the first round only the cells the new points made are looked at again.
+  std::vector<Eigen::Vector3d> repair;  // id - points.size() -> position
+  std::vector<RFacet> facets;
+  std::vector<char> touched(points.size());
+  for (int round = 0;; ++round) {
+    touched.assign(points.size() + repair.size(), 0);
+    evaluate_new_cells(s, dt, touched);
+    facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
+    const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
+    if (groups.empty()) break;
+    if (repair.size() >= max_repair || round >= 100)
+      throw NumericalError("triangulate: " + std::to_string(groups.size()) +
+                           " non-manifold edges or vertices remain after " + std::to_string(repair.size()) +
+                           " repair points in " + std::to_string(round) +
+                           " rounds: the particles are too sparse for this surface (ask for more)");
+    stats.repair_rounds = round + 1;
+    // The largest facet of each group, each crossing computed once and each facet once.
+    std::unordered_map<uint32_t, std::pair<Eigen::Vector3d, double>> ball;  // facet -> (crossing, radius)
+    std::vector<uint32_t> chosen;
+    for (const auto& g : groups) {
+      uint32_t best = g[0];
+      double best_r = -1;
+      for (uint32_t f : g) {
+        auto it = ball.find(f);
+        if (it == ball.end()) {
+          const Eigen::Vector3d x = crossing(s, dt, facets[f].cell, facets[f].i);
+          const double r = (x - vec(facets[f].cell->vertex((facets[f].i + 1) & 3)->point())).norm();
+          it = ball.emplace(f, std::make_pair(x, r)).first;
+        }
+        if (it->second.second > best_r) best_r = it->second.second, best = f;
       }
+      chosen.push_back(best);
     }
-  std::sort(used.begin(), used.end());
+    std::sort(chosen.begin(), chosen.end());
+    chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+    std::vector<Eigen::Vector3d> add;
+    for (uint32_t f : chosen) add.push_back(ball.at(f).first);
+    std::sort(add.begin(), add.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
+    });  // an order that does not depend on where the cells lie in memory
+    Cell hint = facets[chosen[0]].cell;
+    const size_t before = repair.size();
+    for (const Eigen::Vector3d& x : add) {
+      const size_t n0 = dt.number_of_vertices();
+      const Dt::Vertex_handle v = dt.insert(Point(x.x(), x.y(), x.z()), hint);
+      if (dt.number_of_vertices() > n0) {
+        v->info() = uint32_t(points.size() + repair.size());
+        repair.push_back(x);
+      }
+      hint = v->cell();
+    }
+    if (repair.size() == before)
+      throw NumericalError("triangulate: the manifold repair made no progress (" + std::to_string(groups.size()) +
+                           " non-manifold edges or vertices)");
+  }
+
+  facets = restricted_facets(dt);
+  // Triangles in a canonical order (each rotated to start at its smallest id, then sorted),
+  // not in the order the cells lie in memory, which depends on the insertion history.
+  for (RFacet& f : facets) std::rotate(f.v.begin(), std::min_element(f.v.begin(), f.v.end()), f.v.end());
+  std::sort(facets.begin(), facets.end(), [](const RFacet& a, const RFacet& b) { return a.v < b.v; });
+  // Vertices: the given points that the facets use, in their order, then the repair points.
+  const size_t ids = points.size() + repair.size();
+  std::vector<uint32_t> index(ids, UINT32_MAX);
+  for (const RFacet& f : facets)
+    for (uint32_t v : f.v) index[v] = 0;
   TriangleMesh mesh;
-  for (const auto& [key, v] : used) {
-    index[v] = uint32_t(mesh.vertices.size());
-    mesh.vertices.emplace_back(v->point().x(), v->point().y(), v->point().z());
-    if (key >= int64_t(points.size())) ++stats.repair_points;
+  for (size_t id = 0; id < ids; ++id) {
+    if (index[id] == UINT32_MAX) continue;
+    index[id] = uint32_t(mesh.vertices.size());
+    mesh.vertices.push_back(id < points.size() ? points[id] : repair[id - points.size()]);
+    if (id >= points.size()) ++stats.repair_points;
   }
   stats.unused_points = int64_t(points.size()) - (int64_t(mesh.vertices.size()) - stats.repair_points);
-  for (auto it = c2t3.facets_begin(); it != c2t3.facets_end(); ++it) {
-    std::array<uint32_t, 3> t;
-    for (int k = 1; k <= 3; ++k) t[size_t(k - 1)] = index[it->first->vertex((it->second + k) & 3)];
-    mesh.triangles.push_back(t);
-  }
+  mesh.triangles.reserve(facets.size());
+  for (const RFacet& f : facets) mesh.triangles.push_back({index[f.v[0]], index[f.v[1]], index[f.v[2]]});
   std::vector<Eigen::Vector3d> outward(mesh.vertices.size());
   for (size_t i = 0; i < mesh.vertices.size(); ++i) outward[i] = mpu::evaluate_fg(s, mesh.vertices[i]).g;
   stats.flipped_components = orient_components(mesh, outward);
-  // The repair points leave a few thin triangles (mesh/thin_triangles.h).
-  const ThinTriangleStats tt = remove_thin_triangles(mesh, [&s](const Eigen::Vector3d& x) {
+  // The repair points leave a few thin triangles (mesh/thin_triangles.h). The restricted
+  // Delaunay facets are faces of one tetrahedralization, so no two of them intersect; a
+  // collapse or flip can make a triangle that cuts another (across a thin plate). Such
+  // changes are found (the changed triangles against all, exact predicates) and the
+  // cleanup is done again with their vertices frozen; after three tries, none is kept.
+  const TriangleMesh raw = mesh;
+  std::vector<std::array<uint32_t, 3>> raw_tris;
+  for (auto t : raw.triangles) {
+    std::sort(t.begin(), t.end());
+    raw_tris.push_back(t);
+  }
+  std::sort(raw_tris.begin(), raw_tris.end());
+  std::vector<char> frozen(raw.vertices.size(), 0);
+  const auto surface_distance = [&s](const Eigen::Vector3d& x) {
     const mpu::Sample e = mpu::evaluate_fg(s, x);
     const double g = e.g.norm();
     return g > 0 ? std::abs(e.f) / g : INFINITY;
-  });
+  };
+  ThinTriangleStats tt;
+  for (int attempt = 0;; ++attempt) {
+    mesh = raw;
+    ThinTriangleOptions topt;
+    topt.frozen = &frozen;
+    tt = remove_thin_triangles(mesh, surface_distance, topt);
+    // Changed: a triangle that is not a restricted facet, or is one twice.
+    std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> now;
+    for (uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+      std::array<uint32_t, 3> t;
+      for (size_t k = 0; k < 3; ++k) t[k] = tt.kept[mesh.triangles[f][k]];
+      std::sort(t.begin(), t.end());
+      now.emplace_back(t, f);
+    }
+    std::sort(now.begin(), now.end());
+    std::vector<uint32_t> changed;
+    for (size_t k = 0; k < now.size(); ++k)
+      if (!std::binary_search(raw_tris.begin(), raw_tris.end(), now[k].first) ||
+          (k > 0 && now[k - 1].first == now[k].first) || (k + 1 < now.size() && now[k + 1].first == now[k].first))
+        changed.push_back(now[k].second);
+    const auto pairs = intersecting_triangles(mesh, &changed);
+    if (pairs.empty()) break;
+    stats.cleanup_retries = attempt + 1;
+    if (attempt == 2) {
+      mesh = raw;
+      tt = ThinTriangleStats{};
+      break;
+    }
+    for (const auto& [a, b] : pairs)
+      for (const uint32_t f : {a, b})
+        for (uint32_t v : mesh.triangles[f]) frozen[tt.kept[v]] = 1;
+  }
   stats.edge_flips = tt.flips;
   stats.edge_collapses = tt.collapses;
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -1,9 +1,11 @@
 // Stage 7: the restricted Delaunay triangulation of the particles on the MPU surface
-// (DESIGN.md "Triangulation"): the Delaunay facets of the particles whose dual Voronoi
-// edge crosses f = 0, the crossing found by bisection on f. CGAL's surface mesher does
-// exactly this over a triangulation that already holds the particles; with its
-// Manifold_tag it adds a point (the Voronoi edge's crossing) only where the sample is too
-// thin for a manifold, and retriangulates there. The triangles are oriented consistently
+// (DESIGN.md "Triangulation"): the Delaunay facets of the particles (CGAL's
+// Delaunay_triangulation_3) whose dual Voronoi edge crosses f = 0, i.e. whose two Voronoi
+// vertices (circumcentres) have f of opposite signs. Where the sample is too thin for a
+// manifold (an edge with more than two such facets, a vertex with more than one fan), a
+// point is added where the Voronoi edge of the largest facet there crosses f = 0
+// (bisection), as CGAL's surface mesher does with its Manifold_tag, and the cells it
+// changes are looked at again, round by round. The triangles are oriented consistently
 // through their shared edges, each component outward by ∇f; then edge collapses and flips
 // remove most thin triangles (mesh/thin_triangles.h).
 #pragma once
@@ -19,17 +21,21 @@ namespace mpumesh {
 
 struct RestrictedDelaunayStats {
   int64_t particles = 0;       // points given
-  int64_t repair_points = 0;   // points CGAL added for a manifold
+  int64_t repair_points = 0;   // points added for a manifold (and used by the mesh)
+  int64_t repair_rounds = 0;   // rounds of the manifold repair
   int64_t unused_points = 0;   // given points on no restricted facet (dropped)
   int64_t flipped_components = 0;
   int64_t edge_flips = 0, edge_collapses = 0;  // thin triangles removed (mesh/thin_triangles.h)
+  int64_t cleanup_retries = 0;  // times the cleanup was redone to undo a self-intersection
   double seconds = 0;
 };
 
 // The mesh's vertices are the used particles (in their given order), then the repair
-// points (less those that edge collapses merged away).
+// points (less those that edge collapses merged away). The repair stops with a
+// NumericalError after max_repair_points (0: the larger of 20,000 and the particle count)
+// or 100 rounds. The same points give the same mesh.
 TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
-                                 RestrictedDelaunayStats* stats = nullptr);
+                                 RestrictedDelaunayStats* stats = nullptr, int64_t max_repair_points = 0);
 
 // Orients the triangles of each edge-connected component consistently (breadth-first
 // through shared edges; the mesh must be manifold) and then each component so that its

@@ -38,6 +38,13 @@ int64_t collapse_pass(TriangleMesh& mesh, const ThinTriangleOptions& opt) {
     uint32_t u = t[size_t(e)], v = t[size_t((e + 1) % 3)];
     if (u < v) std::swap(u, v);  // keep the earlier vertex (a particle before a repair point)
     if (locked[u] || locked[v]) continue;
+    if (opt.frozen) {
+      bool frozen = false;
+      for (uint32_t g : vf[u])
+        if (!dead[g])
+          for (uint32_t w : tris[g]) frozen = frozen || (*opt.frozen)[w];
+      if (frozen) continue;
+    }
     // Link condition: the vertices adjacent to both are exactly the two opposite ones.
     std::vector<uint32_t> nu, nvv, shared_faces;
     for (uint32_t g : vf[u]) {
@@ -60,6 +67,18 @@ int64_t collapse_pass(TriangleMesh& mesh, const ThinTriangleOptions& opt) {
     std::vector<uint32_t> common;
     std::set_intersection(nu.begin(), nu.end(), nvv.begin(), nvv.end(), std::back_inserter(common));
     if (shared_faces.size() != 2 || common.size() != 2) continue;
+    // The link condition's edge part: triangles u a b and v a b (a, b the two common
+    // neighbours) must not both exist, or the collapse leaves v a b twice (a pillow).
+    auto has_face = [&](uint32_t x) {
+      for (uint32_t g : vf[x]) {
+        if (dead[g]) continue;
+        int hit = 0;
+        for (uint32_t w : tris[g]) hit += w == common[0] || w == common[1];
+        if (hit == 2) return true;
+      }
+      return false;
+    };
+    if (has_face(u) && has_face(v)) continue;
     // The faces around u that stay must not turn.
     bool ok = true;
     for (uint32_t g : vf[u]) {
@@ -99,20 +118,23 @@ int64_t collapse_pass(TriangleMesh& mesh, const ThinTriangleOptions& opt) {
   return n;
 }
 
-// Drops vertices that no triangle uses, keeping the order of the rest.
-void drop_unused_vertices(TriangleMesh& mesh) {
-  std::vector<uint32_t> remap(mesh.vertices.size(), UINT32_MAX);
+// Drops vertices that no triangle uses, keeping the order of the rest; returns the old
+// index of each kept vertex.
+std::vector<uint32_t> drop_unused_vertices(TriangleMesh& mesh) {
+  std::vector<uint32_t> remap(mesh.vertices.size(), UINT32_MAX), kept;
   for (const auto& t : mesh.triangles)
     for (uint32_t v : t) remap[v] = 0;
   uint32_t next = 0;
   for (size_t v = 0; v < remap.size(); ++v)
     if (remap[v] == 0) {
       remap[v] = next;
+      kept.push_back(uint32_t(v));
       mesh.vertices[next++] = mesh.vertices[v];
     }
   mesh.vertices.resize(next);
   for (auto& t : mesh.triangles)
     for (uint32_t& v : t) v = remap[v];
+  return kept;
 }
 
 int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& surface_distance,
@@ -129,8 +151,8 @@ ThinTriangleStats remove_thin_triangles(TriangleMesh& mesh,
     st.collapses += c;
     if (c == 0) break;
   }
-  drop_unused_vertices(mesh);
   st.flips = flip_passes(mesh, surface_distance, opt);
+  st.kept = drop_unused_vertices(mesh);
   return st;
 }
 
@@ -161,6 +183,7 @@ int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::
         for (int k = 0; k < 3; ++k)
           if (tris[g][size_t(k)] == b && tris[g][size_t((k + 1) % 3)] == a) d = tris[g][size_t((k + 2) % 3)];
         if (d == UINT32_MAX || d == c || faces.count(edge_key(c, d))) continue;
+        if (opt.frozen && ((*opt.frozen)[a] || (*opt.frozen)[b] || (*opt.frozen)[c] || (*opt.frozen)[d])) continue;
         const std::array<uint32_t, 3> t1{c, a, d}, t2{d, b, c};  // abc + bad -> cad + dbc
         const double before = std::min(min_angle(mesh, tris[f]), min_angle(mesh, tris[g]));
         const double after = std::min(min_angle(mesh, t1), min_angle(mesh, t2));

@@ -9,12 +9,14 @@
 //   two triangles' minimum angles, cd is no edge yet, the quad is nearly flat (normals
 //   within max_dihedral_deg) and the new edge's midpoint lies no farther from the surface
 //   (`surface_distance`) than the old edge's, or than max_offset_mm.
-// Orientation is kept; vertices left unused are removed.
+// Orientation is kept; vertices left unused are removed. No triangle with a `frozen`
+// vertex changes.
 #pragma once
 
 #include <Eigen/Dense>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "mesh/triangle_mesh.h"
 
@@ -25,10 +27,12 @@ struct ThinTriangleOptions {
   double max_dihedral_deg = 20;
   double max_offset_mm = 0.05;
   int max_passes = 10;
+  const std::vector<char>* frozen = nullptr;  // per input vertex
 };
 
 struct ThinTriangleStats {
   int64_t flips = 0, collapses = 0;
+  std::vector<uint32_t> kept;  // input index of each output vertex
 };
 
 ThinTriangleStats remove_thin_triangles(TriangleMesh& mesh,

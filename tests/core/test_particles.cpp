@@ -111,18 +111,54 @@ TEST(RestrictedDelaunay, SphereEllipsoidTorus) {
   check_mesh("torus", test::AnalyticShape{test::AnalyticShape::kTorus, 25, 8, 8}, 5000, 1);
 }
 
+// Points far too sparse for the surface (random input points, a few hundred on a spherical
+// shell whose wall is 1.5 mm thick): the restricted Delaunay facets alone are not a
+// manifold where a Voronoi cell spans the wall, and the repair adds points on f = 0 until
+// they are; the same input gives the same mesh.
+TEST(RestrictedDelaunay, RepairsASparseSample) {
+  const mpu::MpuSurface s = mpu::fit_mpu(test::spherical_shell(20, 18.5), {});
+  const PointCloud cloud = test::spherical_shell(20, 18.5);
+  for (const size_t count : {300, 1000, 3000}) {
+    std::vector<Eigen::Vector3d> pick;
+    uint64_t h = 12345;
+    for (size_t k = 0; k < count; ++k) {
+      h = h * 6364136223846793005ull + 1442695040888963407ull;
+      pick.push_back(cloud.positions[(h >> 33) % cloud.size()]);
+    }
+    RestrictedDelaunayStats rs;
+    const TriangleMesh m = restricted_delaunay(s, pick, &rs);
+    const Topology topo = analyze_topology(m);
+    double dmax = 0;
+    for (const auto& v : m.vertices) dmax = std::max(dmax, std::min(std::abs(v.norm() - 20), std::abs(v.norm() - 18.5)));
+    std::printf("%zu random points: %lld repair points in %lld rounds, %lld unused, %zu triangles, closed %d "
+                "oriented %d genus %lld components %lld, vertices within %.4f mm\n",
+                count, (long long)rs.repair_points, (long long)rs.repair_rounds, (long long)rs.unused_points,
+                m.triangles.size(), int(topo.closed), int(topo.oriented), (long long)topo.genus,
+                (long long)topo.components, dmax);
+    EXPECT_GT(rs.repair_points, 0);
+    EXPECT_TRUE(topo.closed);
+    EXPECT_TRUE(topo.manifold);
+    EXPECT_TRUE(topo.oriented);
+    EXPECT_LT(dmax, 0.02);
+    const TriangleMesh again = restricted_delaunay(s, pick);
+    EXPECT_EQ(again.vertices, m.vertices);
+    EXPECT_EQ(again.triangles, m.triangles);
+    // With too small a budget of repair points it says so, rather than going on.
+    try {
+      restricted_delaunay(s, pick, nullptr, rs.repair_points / 2);
+      ADD_FAILURE() << "no error";
+    } catch (const NumericalError& e) {
+      EXPECT_NE(std::string(e.what()).find("too sparse"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // A thin plate: a spherical shell 1.5 mm thick (outer r 20, inner 18.5), asked for a 4 mm
 // spacing. The thickness bound spaces most particles at 1.5 mm, so the restricted
 // Delaunay mesh is the two spheres, each closed, no triangle bridges the wall and no
 // repair point is needed.
 TEST(Particles, ThinPlateIsNotBridged) {
-  PointCloud shell = test::sample_shape(test::AnalyticShape{test::AnalyticShape::kSphere, 20, 20, 20}, 0.5, 0.5, true);
-  const PointCloud inner =
-      test::sample_shape(test::AnalyticShape{test::AnalyticShape::kSphere, 18.5, 18.5, 18.5}, 0.5, 0.5, true);
-  for (size_t i = 0; i < inner.size(); ++i) {
-    shell.positions.push_back(inner.positions[i]);
-    shell.normals.push_back(-inner.normals[i]);  // outward of the shell: toward the centre
-  }
+  const PointCloud shell = test::spherical_shell(20, 18.5);
   const mpu::MpuSurface s = mpu::fit_mpu(shell, {});
   CpuBackend cpu;
   for (const double factor : {1.0, 100.0}) {

@@ -156,8 +156,20 @@ TEST(ThinTriangles, NeedleNextToAVertexIsCollapsed) {
   m.triangles.push_back({t[1], t[2], q});
   m.triangles.push_back({t[2], t[0], q});
   ASSERT_LT(measure_quality(m, {}).angle_min, 5.0);
-  const ThinTriangleStats st =
-      remove_thin_triangles(m, [](const Eigen::Vector3d& x) { return std::abs(x.norm() - 10.0); });
+  const auto on_sphere = [](const Eigen::Vector3d& x) { return std::abs(x.norm() - 10.0); };
+  {
+    // With a vertex of the needle frozen, nothing around it changes.
+    TriangleMesh frozen_mesh = m;
+    std::vector<char> frozen(m.vertices.size(), 0);
+    frozen[t[2]] = 1;
+    ThinTriangleOptions o;
+    o.frozen = &frozen;
+    const ThinTriangleStats fs = remove_thin_triangles(frozen_mesh, on_sphere, o);
+    EXPECT_EQ(fs.collapses, 0);
+    EXPECT_EQ(frozen_mesh.triangles.size(), m.triangles.size());
+    EXPECT_EQ(fs.kept.size(), m.vertices.size());
+  }
+  const ThinTriangleStats st = remove_thin_triangles(m, on_sphere);
   const Quality after = measure_quality(m, {});
   EXPECT_EQ(st.collapses, 1);
   EXPECT_EQ(m.vertices.size(), nv);

@@ -169,6 +169,18 @@ double AnalyticShape::distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal
   return d;
 }
 
+PointCloud spherical_shell(double r_outer, double r_inner) {
+  PointCloud shell =
+      sample_shape(AnalyticShape{AnalyticShape::kSphere, r_outer, r_outer, r_outer}, 0.5, 0.5, true);
+  const PointCloud inner =
+      sample_shape(AnalyticShape{AnalyticShape::kSphere, r_inner, r_inner, r_inner}, 0.5, 0.5, true);
+  for (size_t i = 0; i < inner.size(); ++i) {
+    shell.positions.push_back(inner.positions[i]);
+    shell.normals.push_back(-inner.normals[i]);
+  }
+  return shell;
+}
+
 PointCloud sample_shape(const AnalyticShape& s, double hxy, double hz, bool dense) {
   PointCloud out;
   const Eigen::Vector3d ext = s.half_extent() + Eigen::Vector3d::Constant(2 * std::max(hxy, hz));

@@ -68,6 +68,10 @@ struct AnalyticShape {
 // slice plane.
 PointCloud sample_shape(const AnalyticShape& s, double h_xy, double h_z, bool dense);
 
+// A spherical shell (a thin plate): the outer sphere and the inner one, dense at 0.5 mm,
+// the inner normals toward the centre (outward of the shell).
+PointCloud spherical_shell(double r_outer, double r_inner);
+
 // Random binary volume (values +-100), fixed seed.
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed);
 
