@@ -50,6 +50,18 @@ struct RFacet {
   std::array<uint32_t, 3> v;
 };
 
+// f, but positive outside the fitted points' bounding box (widened by 0.5% of the cube):
+// no surface lies there, while the leaves' polynomials, extrapolated into the cube's
+// margin, can go negative (on the sample CT, f = -35 to -650 mm 4 to 16 mm beyond the
+// points at the volume's border), and a Voronoi vertex there would put facets on a sheet
+// that is not there.
+double f_within_data(const mpu::MpuSurface& s, const Eigen::Vector3d& x) {
+  const double margin = 0.005 * s.box_size;
+  if ((x.array() < s.data_min.array() - margin).any() || (x.array() > s.data_max.array() + margin).any())
+    return s.box_size;
+  return mpu::evaluate_f(s, x);
+}
+
 // The Voronoi edge dual to facet (c, i) runs from c's circumcentre to its neighbour's (or,
 // for a facet of the convex hull, out along the facet's outward normal). Its crossing of
 // f = 0, by bisection to within 5 µm, from the inside end a (f < 0) to b (f >= 0).
@@ -69,7 +81,7 @@ Eigen::Vector3d crossing(const mpu::MpuSurface& s, const Dt& dt, Cell c, int i) 
   Eigen::Vector3d lo = a, hi = b;
   for (int k = 0; k < 60 && (hi - lo).squaredNorm() > 25e-6; ++k) {
     const Eigen::Vector3d m = 0.5 * (lo + hi);
-    (mpu::evaluate_f(s, m) < 0 ? lo : hi) = m;
+    (f_within_data(s, m) < 0 ? lo : hi) = m;
   }
   return 0.5 * (lo + hi);
 }
@@ -87,7 +99,7 @@ void evaluate_new_cells(const mpu::MpuSurface& s, Dt& dt, std::vector<char>& tou
   for (size_t k = 0; k < todo.size(); ++k) centres[k] = vec(todo[k]->circumcenter(dt.geom_traits()));
   std::vector<double> f(todo.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t k = r.begin(); k != r.end(); ++k) f[k] = mpu::evaluate_f(s, centres[k]);
+    for (size_t k = r.begin(); k != r.end(); ++k) f[k] = f_within_data(s, centres[k]);
   });
   for (size_t k = 0; k < todo.size(); ++k) {
     if (!std::isfinite(f[k]))
