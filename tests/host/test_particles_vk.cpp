@@ -34,6 +34,23 @@ Fitted fitted_ellipsoid() {
   return f;
 }
 
+// A state mid-run: `count` particles seeded and iterated `iterations` times on the CPU,
+// with the options that made it and the step parameters of its next batch.
+struct Seeded {
+  particles::SampleOptions o;
+  ParticleState start;
+  particles::StepParams p;
+};
+Seeded seeded_on_cpu(const Fitted& f, int64_t count, int iterations) {
+  CpuBackend cpu;
+  Seeded s;
+  s.o.particles = count;
+  s.o.iterations = iterations;
+  s.start = particles::sample_surface(f.surface, f.cloud.positions, s.o, cpu);
+  s.p = particles::batch_params(s.o.step, s.start);
+  return s;
+}
+
 // A surface that turns to NaN after seeding (a broken kernel or fit): both backends mark
 // the NaN evaluations and the finiteness check reports them with the iteration, instead of
 // treating the particles as merely lost.
@@ -41,14 +58,10 @@ TEST(ParticlesVk, NanEvaluationIsReportedOnBothBackends) {
   MPUMESH_VULKAN_OR_SKIP(gpu);
   const Fitted f = fitted_ellipsoid();
   CpuBackend cpu;
-  particles::SampleOptions o;
-  o.particles = 1500;
-  o.iterations = 5;
-  const ParticleState start = particles::sample_surface(f.surface, f.cloud.positions, o, cpu);
+  const auto [o, start, p] = seeded_on_cpu(f, 1500, 5);
   mpu::MpuSurface broken = f.surface;
   for (auto& leaf : broken.leaves)
     if (leaf.centre.x() > 20) leaf.coeffs.fill(std::numeric_limits<double>::quiet_NaN());
-  const particles::StepParams p = particles::batch_params(o.step, start);
   for (ComputeBackend* b : {static_cast<ComputeBackend*>(&cpu), static_cast<ComputeBackend*>(gpu.get())}) {
     ParticleState st = start;
     b->particle_iterations(broken, st, p, 5);
@@ -65,11 +78,7 @@ TEST(ParticlesVk, OneStepMatchesTheReference) {
   const Fitted f = fitted_ellipsoid();
   CpuBackend cpu;
   // A state mid-run: seeded and iterated a little on the CPU, with its targets.
-  particles::SampleOptions o;
-  o.particles = 3000;
-  o.iterations = 10;
-  const ParticleState start = particles::sample_surface(f.surface, f.cloud.positions, o, cpu);
-  const particles::StepParams p = particles::batch_params(o.step, start);
+  const auto [o, start, p] = seeded_on_cpu(f, 3000, 10);
   ParticleState a = start, b = start;
   cpu.particle_iterations(f.surface, a, p, 1);
   gpu->particle_iterations(f.surface, b, p, 1);
