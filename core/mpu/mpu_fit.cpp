@@ -148,13 +148,22 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     std::vector<std::pair<uint32_t, double>> found;
     bool grown = false;
     size_t initial = 0;
-    for (int grow = 0;; ++grow) {
+    tree.radiusSearch(ball.centre.data(), ball.radius * ball.radius, found, nanoflann::SearchParams(32, 0, false));
+    initial = found.size();
+    if (int(initial) < opt.nmin) {
+      // The ball grows by λ R until it holds nmin points: until R² exceeds the squared
+      // distance of the nmin-th nearest point (the radius search counts d² < R²). One
+      // nearest-neighbour search instead of a radius search per step.
+      std::vector<uint32_t> idx(size_t(opt.nmin));
+      std::vector<double> d2(size_t(opt.nmin));
+      nanoflann::KNNResultSet<double, uint32_t> rs(size_t(opt.nmin));
+      rs.init(idx.data(), d2.data());
+      tree.findNeighbors(rs, ball.centre.data(), nanoflann::SearchParams());
+      const double need = d2[rs.size() - 1];
+      for (int grow = 0; grow <= 200 && !(need < ball.radius * ball.radius); ++grow) ball.radius *= 1 + opt.lambda;
+      grown = true;
       found.clear();
       tree.radiusSearch(ball.centre.data(), ball.radius * ball.radius, found, nanoflann::SearchParams(32, 0, false));
-      if (grow == 0) initial = found.size();
-      if (int(found.size()) >= opt.nmin || grow > 200) break;
-      ball.radius *= 1 + opt.lambda;
-      grown = true;
     }
     ball.ids.resize(found.size());
     for (size_t i = 0; i < found.size(); ++i) ball.ids[i] = found[i].first;

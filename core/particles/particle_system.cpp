@@ -34,6 +34,53 @@ uint32_t fmix(uint32_t h) {
   return h;
 }
 
+// Spreads the low 10 bits of v to every third bit (for a 30-bit Morton code).
+uint32_t spread_bits(uint32_t v) {
+  v &= 0x3ffu;
+  v = (v | (v << 16)) & 0x030000ffu;
+  v = (v | (v << 8)) & 0x0300f00fu;
+  v = (v | (v << 4)) & 0x030c30c3u;
+  v = (v | (v << 2)) & 0x09249249u;
+  return v;
+}
+
+// Puts the particles (and their thickness) in Morton order of a 1024^3 grid over their
+// bounding box, so that consecutive particles share MPU leaves and neighbours in the cache.
+// Seeding leaves them in the Poisson disk's random order and fission appends children at
+// the end; in that order each evaluation and neighbour search missed the cache (the sample
+// CT's surface is 258,581 leaves, about 75 MB). Both backends get the same order.
+void order_spatially(ParticleState& st, std::vector<double>& thickness) {
+  const size_t n = st.size();
+  if (n < 2) return;
+  Eigen::Vector3d lo = st.x[0], hi = lo;
+  for (const auto& p : st.x) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double scale = 1023.0 / std::max((hi - lo).maxCoeff(), 1e-9);
+  std::vector<std::pair<uint32_t, uint32_t>> key(n);
+  for (size_t i = 0; i < n; ++i) {
+    uint32_t c = 0;
+    for (int d = 0; d < 3; ++d) c |= spread_bits(uint32_t((st.x[i][d] - lo[d]) * scale)) << d;
+    key[i] = {c, uint32_t(i)};
+  }
+  std::sort(key.begin(), key.end());
+  auto permute = [&](auto& v) {
+    std::remove_reference_t<decltype(v)> out(n);
+    for (size_t k = 0; k < n; ++k) out[k] = v[key[k].second];
+    v.swap(out);
+  };
+  permute(st.x);
+  permute(st.sigma);
+  permute(st.target);
+  permute(st.normal);
+  permute(st.distance);
+  permute(st.curv);
+  permute(st.energy);
+  permute(st.speed);
+  permute(thickness);
+}
+
 // Greedy Poisson-disk subset in a hashed (random but repeatable) order: a point is kept
 // when no kept point lies closer than the mean of their two radii.
 std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& radius,
@@ -396,6 +443,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     st.sigma[k] = st.target[k];
     thickness[k] = thick[i];
   }
+  order_spatially(st, thickness);
   stats.seeds = int64_t(st.size());
   check_finite(st, 0, "the CPU (seeding)");
   const int64_t cap = opt.max_particles > 0 ? opt.max_particles : 8 * int64_t(st.size()) + 10000;
@@ -476,6 +524,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
         const std::vector<double> t = thicknesses(s, kids, child_lambda, h / opt.thickness_factor);
         std::copy(t.begin(), t.end(), thickness.begin() + ptrdiff_t(survivors));
       }
+      order_spatially(st, thickness);
       stats.births += rec.births;
       stats.deaths += rec.deaths;
     }

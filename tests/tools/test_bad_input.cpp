@@ -224,12 +224,13 @@ TEST(Faults, NoVulkanDriver) {
 // SIGTERM and SIGINT in the middle of a run: exit 143 / 130, no output, no temporary.
 TEST(Faults, InterruptedRunLeavesNothing) {
   const std::string dir = test::temp_dir("signal");
-  write_volume(test::sphere_volume({60, 60, 30}, {0.5, 0.5, 1.0}, {15, 15, 15}, 12.0), dir + "/big.mha");
+  // Large enough that the run (about 5 s here) is still going when the signal comes.
+  write_volume(test::sphere_volume({120, 120, 60}, {0.5, 0.5, 1.0}, {30, 30, 30}, 25.0), dir + "/big.mha");
   for (const auto& [sig, code] : {std::pair{SIGTERM, 143}, std::pair{SIGINT, 130}}) {
     const std::string out = dir + "/o" + std::to_string(sig) + ".ply";
     const std::string cmd = std::string(MPUMESH_BIN) + " run " + dir + "/big.mha --threshold 0 --particles 40000 -o " +
                             out + " --html " + out + ".html --report " + out + ".json --backend cpu -q & pid=$!; "
-                            "sleep 1.5; kill -" + std::to_string(sig) + " $pid; wait $pid; echo \"rc=$?\"";
+                            "sleep 1; kill -" + std::to_string(sig) + " $pid; wait $pid; echo \"rc=$?\"";
     Result r;
     FILE* p = popen(("bash -c '" + cmd + "' 2>&1").c_str(), "r");
     char buf[4096];
