@@ -54,7 +54,9 @@ nlohmann::json fit_json(const mpu::FitOptions& o, const mpu::FitStats& st) {
           {"lambda", o.lambda},
           {"max_depth", o.max_depth},
           {"max_degree", o.max_degree},
-          {"seconds", st.seconds}};
+          {"seconds", st.seconds},
+          {"seconds_by_step",
+           {{"setup", st.seconds_setup}, {"levels", st.seconds_by_depth}, {"lookup_grid", st.seconds_grid}}}};
 }
 
 void add_fit_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {

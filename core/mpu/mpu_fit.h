@@ -12,6 +12,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "mpu/mpu_surface.h"
 #include "points/point_cloud.h"
@@ -45,6 +46,10 @@ struct FitStats {
   int max_depth_reached = 0;
   int64_t duplicates_removed = 0;  // input points at exactly the position of an earlier one
   double eps = 0, min_radius = 0, seconds = 0;
+  // Of which: duplicates, k-d tree and spacing; each octree level (index = depth); the
+  // lookup grid.
+  double seconds_setup = 0, seconds_grid = 0;
+  std::vector<double> seconds_by_depth;
 };
 
 MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* stats = nullptr);
