@@ -103,7 +103,13 @@ nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
           {"edge_flips", st.edge_flips},
           {"edge_collapses", st.edge_collapses},
           {"cleanup_retries", st.cleanup_retries},
-          {"seconds", st.seconds}};
+          {"seconds", st.seconds},
+          {"seconds_by_step",
+           {{"delaunay", st.seconds_delaunay},
+            {"evaluate", st.seconds_evaluate},
+            {"repair", st.seconds_repair},
+            {"mesh", st.seconds_mesh},
+            {"cleanup", st.seconds_cleanup}}}};
 }
 
 bool is_mesh_path(const std::string& path) {

@@ -4,6 +4,7 @@
 #include <CGAL/Delaunay_triangulation_cell_base_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Robust_circumcenter_traits_3.h>
+#include <CGAL/Spatial_lock_grid_3.h>
 #include <CGAL/Triangulation_cell_base_with_info_3.h>
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
@@ -33,12 +34,26 @@ struct CellData {
 };
 using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
 using Cb = CGAL::Triangulation_cell_base_with_info_3<CellData, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
-using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
-using Dt = CGAL::Delaunay_triangulation_3<K, Tds>;
+// Parallel insertion (TBB, with CGAL's spatial lock grid): the Delaunay triangulation of a
+// point set is unique (CGAL's symbolic perturbation decides the degenerate cases), so the
+// threads change only where the cells lie in memory, which nothing here depends on.
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb, CGAL::Parallel_tag>;
+using Lock = CGAL::Spatial_lock_grid_3<CGAL::Tag_priority_blocking>;
+using Dt = CGAL::Delaunay_triangulation_3<K, Tds, CGAL::Default, Lock>;
 using Point = K::Point_3;
 using Cell = Dt::Cell_handle;
 
 Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+// A cell's circumcentre from its vertices in id order: the same bits whichever order the
+// cell lists them in (which depends on the insertion history and, inserted in parallel, on
+// the threads), so that f's sign there, hence the mesh, is the same every run.
+Eigen::Vector3d circumcentre(const Dt& dt, Cell c) {
+  std::array<Dt::Vertex_handle, 4> v = {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
+  std::sort(v.begin(), v.end(), [](const Dt::Vertex_handle& a, const Dt::Vertex_handle& b) { return a->info() < b->info(); });
+  return vec(dt.geom_traits().construct_circumcenter_3_object()(v[0]->point(), v[1]->point(), v[2]->point(),
+                                                                v[3]->point()));
+}
 
 bool inside(const Dt& dt, Cell c) { return !dt.is_infinite(c) && c->info().f < 0; }
 
@@ -66,17 +81,20 @@ double f_within_data(const mpu::MpuSurface& s, const Eigen::Vector3d& x) {
 // for a facet of the convex hull, out along the facet's outward normal). Its crossing of
 // f = 0, by bisection to within 5 µm, from the inside end a (f < 0) to b (f >= 0).
 Eigen::Vector3d crossing(const mpu::MpuSurface& s, const Dt& dt, Cell c, int i) {
-  const Eigen::Vector3d a = vec(c->circumcenter(dt.geom_traits()));
+  const Eigen::Vector3d a = circumcentre(dt, c);
   const Cell n = c->neighbor(i);
   Eigen::Vector3d b;
   if (dt.is_infinite(n)) {
-    const Eigen::Vector3d p0 = vec(c->vertex((i + 1) & 3)->point()), p1 = vec(c->vertex((i + 2) & 3)->point()),
-                          p2 = vec(c->vertex((i + 3) & 3)->point()), pi = vec(c->vertex(i)->point());
+    // The facet's vertices in id order (see circumcentre).
+    std::array<Dt::Vertex_handle, 3> f = {c->vertex((i + 1) & 3), c->vertex((i + 2) & 3), c->vertex((i + 3) & 3)};
+    std::sort(f.begin(), f.end(), [](const Dt::Vertex_handle& x, const Dt::Vertex_handle& y) { return x->info() < y->info(); });
+    const Eigen::Vector3d p0 = vec(f[0]->point()), p1 = vec(f[1]->point()), p2 = vec(f[2]->point()),
+                          pi = vec(c->vertex(i)->point());
     Eigen::Vector3d dir = (p1 - p0).cross(p2 - p0);
     if (dir.dot(pi - p0) > 0) dir = -dir;
     b = a + dir.normalized() * (s.box_size * 2 + (a - 0.5 * (s.data_min + s.data_max)).norm());
   } else {
-    b = vec(n->circumcenter(dt.geom_traits()));
+    b = circumcentre(dt, n);
   }
   Eigen::Vector3d lo = a, hi = b;
   for (int k = 0; k < 60 && (hi - lo).squaredNorm() > 25e-6; ++k) {
@@ -96,10 +114,12 @@ void evaluate_new_cells(const mpu::MpuSurface& s, Dt& dt, std::vector<char>& tou
       for (int k = 0; k < 4; ++k) touched[c->vertex(k)->info()] = 1;
     }
   std::vector<Eigen::Vector3d> centres(todo.size());
-  for (size_t k = 0; k < todo.size(); ++k) centres[k] = vec(todo[k]->circumcenter(dt.geom_traits()));
   std::vector<double> f(todo.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t k = r.begin(); k != r.end(); ++k) f[k] = f_within_data(s, centres[k]);
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      centres[k] = circumcentre(dt, todo[k]);
+      f[k] = f_within_data(s, centres[k]);
+    }
   });
   for (size_t k = 0; k < todo.size(); ++k) {
     if (!std::isfinite(f[k]))
@@ -257,14 +277,40 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   stats.particles = int64_t(points.size());
   if (points.size() < 4) throw InputError("triangulate: fewer than 4 particles");
   if (points.size() >= (size_t(1) << 31)) throw InputError("triangulate: too many particles");
-  Dt dt;
+  Eigen::Vector3d lo = points[0], hi = lo;
+  for (const auto& p : points) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  Lock lock(CGAL::Bbox_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()), 50);
+  Dt dt(K(), &lock);
   {
+    // Of points at one position only the first is inserted: which of them the triangulation
+    // would keep depends, inserted in parallel, on the threads.
+    std::vector<uint32_t> order(points.size());
+    std::iota(order.begin(), order.end(), 0u);
+    auto less = [&](uint32_t a, uint32_t b) {
+      return std::lexicographical_compare(points[a].data(), points[a].data() + 3, points[b].data(),
+                                          points[b].data() + 3) ||
+             (points[a] == points[b] && a < b);
+    };
+    std::sort(order.begin(), order.end(), less);
     std::vector<std::pair<Point, uint32_t>> pts;
     pts.reserve(points.size());
-    for (size_t i = 0; i < points.size(); ++i)
-      pts.emplace_back(Point(points[i].x(), points[i].y(), points[i].z()), uint32_t(i));
+    for (size_t k = 0; k < order.size(); ++k) {
+      const uint32_t i = order[k];
+      if (k > 0 && points[i] == points[order[k - 1]]) continue;
+      pts.emplace_back(Point(points[i].x(), points[i].y(), points[i].z()), i);
+    }
     dt.insert(pts.begin(), pts.end());
   }
+  auto lap = [t = t0]() mutable {
+    const auto now = std::chrono::steady_clock::now();
+    const double d = std::chrono::duration<double>(now - t).count();
+    t = now;
+    return d;
+  };
+  stats.seconds_delaunay = lap();
   // Manifold repair, as CGAL's surface mesher does with its Manifold_tag, but bounded and
   // repeatable: while some edge has more than two restricted facets or some vertex more
   // than one fan, each such element gets a point where the Voronoi edge of its largest
@@ -279,7 +325,9 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   std::vector<char> touched(points.size());
   for (int round = 0;; ++round) {
     touched.assign(points.size() + repair.size(), 0);
+    stats.seconds_repair += lap();
     evaluate_new_cells(s, dt, touched);
+    stats.seconds_evaluate += lap();
     facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
     const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
     if (groups.empty()) break;
@@ -290,19 +338,40 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
                            " rounds: the particles are too sparse for this surface (ask for more)");
     stats.repair_rounds = round + 1;
     // The largest facet of each group, each crossing computed once and each facet once.
+    // The crossings (bisection on f) are found in parallel.
+    std::vector<uint32_t> need;
+    for (const auto& g : groups) need.insert(need.end(), g.begin(), g.end());
+    std::sort(need.begin(), need.end());
+    need.erase(std::unique(need.begin(), need.end()), need.end());
+    std::vector<std::pair<Eigen::Vector3d, double>> found(need.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, need.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t k = r.begin(); k != r.end(); ++k) {
+        const RFacet& rf = facets[need[k]];
+        const Eigen::Vector3d x = crossing(s, dt, rf.cell, rf.i);
+        // The ball's radius: the distance to the facet's vertex of smallest id.
+        Dt::Vertex_handle first = rf.cell->vertex((rf.i + 1) & 3);
+        for (int j = 2; j <= 3; ++j)
+          if (rf.cell->vertex((rf.i + j) & 3)->info() < first->info()) first = rf.cell->vertex((rf.i + j) & 3);
+        found[k] = {x, (x - vec(first->point())).norm()};
+      }
+    });
     std::unordered_map<uint32_t, std::pair<Eigen::Vector3d, double>> ball;  // facet -> (crossing, radius)
+    for (size_t k = 0; k < need.size(); ++k) ball.emplace(need[k], found[k]);
+    // Equal radii (cospherical points give several facets one Voronoi vertex) go to the
+    // facet with the smallest vertex ids, not to the first in memory: the parallel
+    // insertion puts cells in a different order each run.
+    auto sorted_ids = [&](uint32_t f) {
+      std::array<uint32_t, 3> v = facets[f].v;
+      std::sort(v.begin(), v.end());
+      return v;
+    };
     std::vector<uint32_t> chosen;
     for (const auto& g : groups) {
       uint32_t best = g[0];
       double best_r = -1;
       for (uint32_t f : g) {
-        auto it = ball.find(f);
-        if (it == ball.end()) {
-          const Eigen::Vector3d x = crossing(s, dt, facets[f].cell, facets[f].i);
-          const double r = (x - vec(facets[f].cell->vertex((facets[f].i + 1) & 3)->point())).norm();
-          it = ball.emplace(f, std::make_pair(x, r)).first;
-        }
-        if (it->second.second > best_r) best_r = it->second.second, best = f;
+        const double r = ball.at(f).second;
+        if (r > best_r || (r == best_r && sorted_ids(f) < sorted_ids(best))) best_r = r, best = f;
       }
       chosen.push_back(best);
     }
@@ -329,6 +398,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
                            " non-manifold edges or vertices)");
   }
 
+  stats.seconds_repair += lap();
   facets = restricted_facets(dt);
   // Triangles in a canonical order (each rotated to start at its smallest id, then sorted),
   // not in the order the cells lie in memory, which depends on the insertion history.
@@ -350,13 +420,16 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   mesh.triangles.reserve(facets.size());
   for (const RFacet& f : facets) mesh.triangles.push_back({index[f.v[0]], index[f.v[1]], index[f.v[2]]});
   std::vector<Eigen::Vector3d> outward(mesh.vertices.size());
-  for (size_t i = 0; i < mesh.vertices.size(); ++i) outward[i] = mpu::evaluate_fg(s, mesh.vertices[i]).g;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.vertices.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) outward[i] = mpu::evaluate_fg(s, mesh.vertices[i]).g;
+  });
   stats.flipped_components = orient_components(mesh, outward);
   // The repair points leave a few thin triangles (mesh/thin_triangles.h). The restricted
   // Delaunay facets are faces of one tetrahedralization, so no two of them intersect; a
   // collapse or flip can make a triangle that cuts another (across a thin plate). Such
   // changes are found (the changed triangles against all, exact predicates) and the
   // cleanup is done again with their vertices frozen; after three tries, none is kept.
+  stats.seconds_mesh = lap();
   const TriangleMesh raw = mesh;
   std::vector<std::array<uint32_t, 3>> raw_tris;
   for (auto t : raw.triangles) {
@@ -404,6 +477,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   }
   stats.edge_flips = tt.flips;
   stats.edge_collapses = tt.collapses;
+  stats.seconds_cleanup = lap();
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = stats;
   return mesh;

@@ -28,6 +28,10 @@ struct RestrictedDelaunayStats {
   int64_t edge_flips = 0, edge_collapses = 0;  // thin triangles removed (mesh/thin_triangles.h)
   int64_t cleanup_retries = 0;  // times the cleanup was redone to undo a self-intersection
   double seconds = 0;
+  // Of which: Delaunay triangulation of the particles, f at the circumcentres (all rounds),
+  // the manifold repair's crossings and insertions, the facets in order and oriented, the
+  // thin-triangle cleanup with its self-intersection check.
+  double seconds_delaunay = 0, seconds_evaluate = 0, seconds_repair = 0, seconds_mesh = 0, seconds_cleanup = 0;
 };
 
 // The mesh's vertices are the used particles (in their given order), then the repair

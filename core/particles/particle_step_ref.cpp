@@ -172,6 +172,7 @@ bool newton_project(const mpu::MpuSurface& s, Eigen::Vector3d& x, int steps, dou
     const double len = step.norm();
     if (len > max_move) step *= max_move / len;
     x += step;
+    if (len < 1e-9) break;  // converged (1 pm): the remaining steps would not move it
   }
   return true;
 }

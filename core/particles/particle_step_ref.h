@@ -102,7 +102,8 @@ void repulsion_step(ParticleState& st, const ParticleGrids& grids, const StepPar
 void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p, bool with_curvature = true);
 
 // Pulls one point onto f = 0 by up to `steps` Newton steps (each move capped at
-// `max_move` mm); returns false when ∇f vanishes on the way.
+// `max_move` mm; it stops once a step is under 1 pm); returns false when ∇f vanishes on
+// the way.
 bool newton_project(const mpu::MpuSurface& s, Eigen::Vector3d& x, int steps, double max_move);
 
 // Steps 1-3, `iterations` times.

@@ -44,16 +44,13 @@ uint32_t spread_bits(uint32_t v) {
   return v;
 }
 
-// Puts the particles (and their thickness) in Morton order of a 1024^3 grid over their
-// bounding box, so that consecutive particles share MPU leaves and neighbours in the cache.
-// Seeding leaves them in the Poisson disk's random order and fission appends children at
-// the end; in that order each evaluation and neighbour search missed the cache (the sample
-// CT's surface is 258,581 leaves, about 75 MB). Both backends get the same order.
-void order_spatially(ParticleState& st, std::vector<double>& thickness) {
-  const size_t n = st.size();
-  if (n < 2) return;
-  Eigen::Vector3d lo = st.x[0], hi = lo;
-  for (const auto& p : st.x) {
+// The order of the points along a Morton curve over a 1024^3 grid on their bounding box.
+std::vector<size_t> morton_order(const std::vector<Eigen::Vector3d>& x) {
+  const size_t n = x.size();
+  std::vector<size_t> order(n);
+  if (n == 0) return order;
+  Eigen::Vector3d lo = x[0], hi = lo;
+  for (const auto& p : x) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
@@ -61,13 +58,25 @@ void order_spatially(ParticleState& st, std::vector<double>& thickness) {
   std::vector<std::pair<uint32_t, uint32_t>> key(n);
   for (size_t i = 0; i < n; ++i) {
     uint32_t c = 0;
-    for (int d = 0; d < 3; ++d) c |= spread_bits(uint32_t((st.x[i][d] - lo[d]) * scale)) << d;
+    for (int d = 0; d < 3; ++d) c |= spread_bits(uint32_t((x[i][d] - lo[d]) * scale)) << d;
     key[i] = {c, uint32_t(i)};
   }
   std::sort(key.begin(), key.end());
+  for (size_t k = 0; k < n; ++k) order[k] = key[k].second;
+  return order;
+}
+
+// Puts the particles (and their thickness) in Morton order, so that consecutive particles
+// share MPU leaves and neighbours in the cache. Seeding leaves them in the Poisson disk's
+// random order and fission appends children at the end; in that order each evaluation
+// and neighbour search missed the cache (the sample CT's surface is 258,581 leaves, about
+// 75 MB). Both backends get the same order.
+void order_spatially(ParticleState& st, std::vector<double>& thickness) {
+  const size_t n = st.size();
+  const std::vector<size_t> order = morton_order(st.x);
   auto permute = [&](auto& v) {
     std::remove_reference_t<decltype(v)> out(n);
-    for (size_t k = 0; k < n; ++k) out[k] = v[key[k].second];
+    for (size_t k = 0; k < n; ++k) out[k] = v[order[k]];
     v.swap(out);
   };
   permute(st.x);
@@ -328,7 +337,15 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   if (opt.spacing > 0) r_pool = std::min(r_pool, std::max(opt.spacing * kDiskPerSpacing, extent / 400));
   ParticleState pool;
   {
-    const std::vector<size_t> keep = poisson_disk(candidates, std::vector<double>(candidates.size(), r_pool), opt.seed);
+    std::vector<size_t> keep = poisson_disk(candidates, std::vector<double>(candidates.size(), r_pool), opt.seed);
+    {  // in space order, for the cache (see order_spatially)
+      std::vector<Eigen::Vector3d> at(keep.size());
+      for (size_t k = 0; k < keep.size(); ++k) at[k] = candidates[keep[k]];
+      const std::vector<size_t> order = morton_order(at);
+      std::vector<size_t> sorted(keep.size());
+      for (size_t k = 0; k < keep.size(); ++k) sorted[k] = keep[order[k]];
+      keep.swap(sorted);
+    }
     pool.resize(keep.size());
     for (size_t k = 0; k < keep.size(); ++k) {
       pool.x[k] = candidates[keep[k]];

@@ -1,5 +1,7 @@
 #include "particles/spacing_stats.h"
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -38,16 +40,18 @@ std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x) {
   PointsAdaptor adaptor{&x};
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
-  for (size_t i = 0; i < x.size(); ++i) {
-    uint32_t idx[7];
-    double d2[7];
-    nanoflann::KNNResultSet<double, uint32_t> rs(7);
-    rs.init(idx, d2);
-    tree.findNeighbors(rs, x[i].data(), nanoflann::SearchParams());
-    double s = 0;
-    for (int k = 1; k < 7; ++k) s += std::sqrt(d2[k]);
-    out[i] = s / 6;
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, x.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      uint32_t idx[7];
+      double d2[7];
+      nanoflann::KNNResultSet<double, uint32_t> rs(7);
+      rs.init(idx, d2);
+      tree.findNeighbors(rs, x[i].data(), nanoflann::SearchParams());
+      double s = 0;
+      for (int k = 1; k < 7; ++k) s += std::sqrt(d2[k]);
+      out[i] = s / 6;
+    }
+  });
   return out;
 }
 
