@@ -316,6 +316,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       particles::SampleStats sst;
       const particles::ParticleState ps =
           particles::sample_surface(s, cloud.positions, o->sample, *choice.backend, &sst);
+      // The particle kernels' device times, before a later stage's kernels replace them.
+      const std::map<std::string, double> particle_kernel_ms = choice.backend->kernel_ms();
       progress.end();
       progress.begin("triangulate");
       RestrictedDelaunayStats tst;
@@ -338,6 +340,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       progress.end();
       j["fit"] = fit_json(o->fit, fit_stats);
       j["particles"] = sample_json(o->sample, sst, ps);
+      j["particles"]["kernel_ms"] = particle_kernel_ms;
       j["triangulation"] = triangulation_json(tst);
       j["backend"] = backend_json(choice);
       j["kernel_ms"] = choice.backend->kernel_ms();

@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <nanoflann.hpp>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,15 +27,20 @@ using KdTree =
 // nearest neighbour (k <= 15); 1 when there are too few points.
 inline double median_spacing(const std::vector<Eigen::Vector3d>& pts, const KdTree& tree, size_t k = 1) {
   const size_t step = std::max<size_t>(1, pts.size() / 20000);
+  std::vector<double> all((pts.size() + step - 1) / step, -1.0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, all.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t j = r.begin(); j != r.end(); ++j) {
+      uint32_t idx[16];
+      double d2[16];
+      nanoflann::KNNResultSet<double, uint32_t> rs(k + 1);
+      rs.init(idx, d2);
+      tree.findNeighbors(rs, pts[j * step].data(), nanoflann::SearchParams());
+      if (rs.size() == k + 1 && d2[k] > 0) all[j] = std::sqrt(d2[k]);
+    }
+  });
   std::vector<double> d;
-  for (size_t i = 0; i < pts.size(); i += step) {
-    uint32_t idx[16];
-    double d2[16];
-    nanoflann::KNNResultSet<double, uint32_t> rs(k + 1);
-    rs.init(idx, d2);
-    tree.findNeighbors(rs, pts[i].data(), nanoflann::SearchParams());
-    if (rs.size() == k + 1 && d2[k] > 0) d.push_back(std::sqrt(d2[k]));
-  }
+  for (double v : all)
+    if (v > 0) d.push_back(v);
   if (d.empty()) return 1.0;
   std::nth_element(d.begin(), d.begin() + ptrdiff_t(d.size() / 2), d.end());
   return d[d.size() / 2];

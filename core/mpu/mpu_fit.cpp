@@ -1,6 +1,7 @@
 #include "mpu/mpu_fit.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
@@ -52,7 +53,7 @@ PointCloud without_duplicates(const PointCloud& in, int64_t* removed) {
     if (p.z() != q.z()) return p.z() < q.z();
     return a < b;
   };
-  std::sort(order.begin(), order.end(), less);
+  tbb::parallel_sort(order.begin(), order.end(), less);  // a total order: the same result
   std::vector<char> keep(in.size(), 1);
   for (size_t k = 1; k < order.size(); ++k)
     if (in.positions[order[k]] == in.positions[order[k - 1]]) keep[order[k]] = 0;
