@@ -1,5 +1,8 @@
 #include "vulkan_backend.h"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cstring>
 
 #include "common/error.h"
@@ -41,19 +44,27 @@ namespace {
 // Which surface is resident: a hash of every leaf's centre, radius and constant term (an
 // address alone could be a new surface in an old one's place).
 uint64_t fingerprint(const mpu::MpuSurface& s) {
-  uint64_t h = 1469598103934665603ull ^ s.leaves.size();
-  auto mix = [&h](double v) {
+  auto mix = [](uint64_t& h, double v) {
     uint64_t b;
     std::memcpy(&b, &v, sizeof b);
     h = (h ^ b) * 1099511628211ull;
   };
-  for (const auto& l : s.leaves) {
-    mix(l.centre.x());
-    mix(l.centre.y());
-    mix(l.centre.z());
-    mix(l.radius);
-    mix(l.coeffs[0]);
-  }
+  // Chunks hashed in parallel, then combined in order (6 ms a batch on one thread for the
+  // sample CT's 258,581 leaves).
+  constexpr size_t kChunk = 4096;
+  std::vector<uint64_t> part((s.leaves.size() + kChunk - 1) / kChunk, 1469598103934665603ull);
+  tbb::parallel_for(size_t(0), part.size(), [&](size_t c) {
+    for (size_t i = c * kChunk; i < std::min(s.leaves.size(), (c + 1) * kChunk); ++i) {
+      const auto& l = s.leaves[i];
+      mix(part[c], l.centre.x());
+      mix(part[c], l.centre.y());
+      mix(part[c], l.centre.z());
+      mix(part[c], l.radius);
+      mix(part[c], l.coeffs[0]);
+    }
+  });
+  uint64_t h = 1469598103934665603ull ^ s.leaves.size();
+  for (const uint64_t p : part) h = (h ^ p) * 1099511628211ull;
   return h;
 }
 
