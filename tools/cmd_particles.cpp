@@ -102,6 +102,7 @@ nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
           {"components_flipped", st.flipped_components},
           {"edge_flips", st.edge_flips},
           {"edge_collapses", st.edge_collapses},
+          {"vertices_relaxed", st.vertices_relaxed},
           {"cleanup_retries", st.cleanup_retries},
           {"seconds", st.seconds},
           {"seconds_by_step",

@@ -18,6 +18,7 @@
 #include <unordered_map>
 
 #include "common/error.h"
+#include "common/lap_timer.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/thin_triangles.h"
 #include "mpu/mpu_eval_ref.h"
@@ -304,13 +305,8 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
     }
     dt.insert(pts.begin(), pts.end());
   }
-  auto lap = [t = t0]() mutable {
-    const auto now = std::chrono::steady_clock::now();
-    const double d = std::chrono::duration<double>(now - t).count();
-    t = now;
-    return d;
-  };
-  stats.seconds_delaunay = lap();
+  LapTimer timer(t0);
+  stats.seconds_delaunay = timer.lap();
   // Manifold repair, as CGAL's surface mesher does with its Manifold_tag, but bounded and
   // repeatable: while some edge has more than two restricted facets or some vertex more
   // than one fan, each such element gets a point where the Voronoi edge of its largest
@@ -325,9 +321,9 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   std::vector<char> touched(points.size());
   for (int round = 0;; ++round) {
     touched.assign(points.size() + repair.size(), 0);
-    stats.seconds_repair += lap();
+    stats.seconds_repair += timer.lap();
     evaluate_new_cells(s, dt, touched);
-    stats.seconds_evaluate += lap();
+    stats.seconds_evaluate += timer.lap();
     facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
     const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
     if (groups.empty()) break;
@@ -398,7 +394,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
                            " non-manifold edges or vertices)");
   }
 
-  stats.seconds_repair += lap();
+  stats.seconds_repair += timer.lap();
   facets = restricted_facets(dt);
   // Triangles in a canonical order (each rotated to start at its smallest id, then sorted),
   // not in the order the cells lie in memory, which depends on the insertion history.
@@ -426,10 +422,11 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   stats.flipped_components = orient_components(mesh, outward);
   // The repair points leave a few thin triangles (mesh/thin_triangles.h). The restricted
   // Delaunay facets are faces of one tetrahedralization, so no two of them intersect; a
-  // collapse or flip can make a triangle that cuts another (across a thin plate). Such
-  // changes are found (the changed triangles against all, exact predicates) and the
-  // cleanup is done again with their vertices frozen; after three tries, none is kept.
-  stats.seconds_mesh = lap();
+  // collapse, flip or relaxed vertex can make a triangle that cuts another (across a thin
+  // plate). Such changes are found (the changed triangles against all, exact predicates)
+  // and the cleanup is done again with their vertices frozen; after three tries, none is
+  // kept.
+  stats.seconds_mesh = timer.lap();
   const TriangleMesh raw = mesh;
   std::vector<std::array<uint32_t, 3>> raw_tris;
   for (auto t : raw.triangles) {
@@ -443,12 +440,28 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
     const double g = e.g.norm();
     return g > 0 ? std::abs(e.f) / g : INFINITY;
   };
+  // A point moved back onto f = 0 by four Newton steps.
+  const auto onto_surface = [&s](Eigen::Vector3d x) {
+    for (int k = 0; k < 4; ++k) {
+      const mpu::Sample e = mpu::evaluate_fg(s, x);
+      const double g2 = e.g.squaredNorm();
+      if (!(g2 > 0) || e.leaves == 0) return Eigen::Vector3d(Eigen::Vector3d::Constant(NAN));
+      x -= e.f / g2 * e.g;
+    }
+    return x;
+  };
   ThinTriangleStats tt;
+  std::vector<uint32_t> relaxed;
   for (int attempt = 0;; ++attempt) {
     mesh = raw;
     ThinTriangleOptions topt;
     topt.frozen = &frozen;
     tt = remove_thin_triangles(mesh, surface_distance, topt);
+    std::vector<char> frozen_now(mesh.vertices.size());
+    for (size_t i = 0; i < frozen_now.size(); ++i) frozen_now[i] = frozen[tt.kept[i]];
+    RelaxOptions ropt;
+    ropt.frozen = &frozen_now;
+    relaxed = relax_thin_triangles(mesh, onto_surface, ropt);
     // Changed: a triangle that is not a restricted facet, or is one twice.
     std::vector<std::pair<std::array<uint32_t, 3>, uint32_t>> now;
     for (uint32_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -463,12 +476,21 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
       if (!std::binary_search(raw_tris.begin(), raw_tris.end(), now[k].first) ||
           (k > 0 && now[k - 1].first == now[k].first) || (k + 1 < now.size() && now[k + 1].first == now[k].first))
         changed.push_back(now[k].second);
+    // ... and every triangle around a relaxed vertex.
+    std::vector<char> moved(mesh.vertices.size(), 0);
+    for (uint32_t v : relaxed) moved[v] = 1;
+    for (uint32_t f = 0; f < mesh.triangles.size(); ++f)
+      if (moved[mesh.triangles[f][0]] || moved[mesh.triangles[f][1]] || moved[mesh.triangles[f][2]])
+        changed.push_back(f);
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
     const auto pairs = intersecting_triangles(mesh, &changed);
     if (pairs.empty()) break;
     stats.cleanup_retries = attempt + 1;
     if (attempt == 2) {
       mesh = raw;
       tt = ThinTriangleStats{};
+      relaxed.clear();
       break;
     }
     for (const auto& [a, b] : pairs)
@@ -477,7 +499,8 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   }
   stats.edge_flips = tt.flips;
   stats.edge_collapses = tt.collapses;
-  stats.seconds_cleanup = lap();
+  stats.vertices_relaxed = int64_t(relaxed.size());
+  stats.seconds_cleanup = timer.lap();
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = stats;
   return mesh;

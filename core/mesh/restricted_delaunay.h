@@ -26,6 +26,7 @@ struct RestrictedDelaunayStats {
   int64_t unused_points = 0;   // given points on no restricted facet (dropped)
   int64_t flipped_components = 0;
   int64_t edge_flips = 0, edge_collapses = 0;  // thin triangles removed (mesh/thin_triangles.h)
+  int64_t vertices_relaxed = 0;                 // moved to mend the thin triangles left
   int64_t cleanup_retries = 0;  // times the cleanup was redone to undo a self-intersection
   double seconds = 0;
   // Of which: Delaunay triangulation of the particles, f at the circumcentres (all rounds),

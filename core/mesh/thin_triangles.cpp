@@ -218,4 +218,82 @@ int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::
 
 }  // namespace
 
+std::vector<uint32_t> relax_thin_triangles(TriangleMesh& mesh,
+                                           const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& project,
+                                           const RelaxOptions& opt) {
+  const size_t nv = mesh.vertices.size();
+  std::vector<std::vector<uint32_t>> vf(nv);
+  for (uint32_t f = 0; f < mesh.triangles.size(); ++f)
+    for (uint32_t v : mesh.triangles[f]) vf[v].push_back(f);
+  auto fan_min = [&](uint32_t v) {
+    double a = 180;
+    for (uint32_t f : vf[v]) a = std::min(a, min_angle(mesh, mesh.triangles[f]));
+    return a;
+  };
+  auto raw_normal = [&](uint32_t f) {
+    const auto& t = mesh.triangles[f];
+    return Eigen::Vector3d((mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]));
+  };
+  const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
+  std::vector<char> moved(nv, 0);
+  std::vector<uint32_t> out;
+  // The triangles to look at: all at first, then those around the last round's vertices
+  // (a move changes only the triangles around the vertex moved).
+  std::vector<uint32_t> look(mesh.triangles.size());
+  for (uint32_t f = 0; f < look.size(); ++f) look[f] = f;
+  for (int round = 0; round < opt.rounds; ++round) {
+    // The vertices of this round's thin triangles, in index order.
+    std::vector<uint32_t> todo;
+    for (const uint32_t f : look)
+      if (min_angle(mesh, mesh.triangles[f]) < opt.below_deg)
+        todo.insert(todo.end(), mesh.triangles[f].begin(), mesh.triangles[f].end());
+    std::sort(todo.begin(), todo.end());
+    todo.erase(std::unique(todo.begin(), todo.end()), todo.end());
+    look.clear();
+    for (const uint32_t v : todo) look.insert(look.end(), vf[v].begin(), vf[v].end());
+    std::sort(look.begin(), look.end());
+    look.erase(std::unique(look.begin(), look.end()), look.end());
+    int64_t round_moves = 0;
+    for (const uint32_t v : todo) {
+      if (opt.frozen && (*opt.frozen)[v]) continue;
+      const double before = fan_min(v);
+      if (before >= opt.below_deg) continue;
+      std::vector<uint32_t> ring;
+      for (uint32_t f : vf[v])
+        for (uint32_t w : mesh.triangles[f])
+          if (w != v) ring.push_back(w);
+      std::sort(ring.begin(), ring.end());
+      ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+      Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+      for (uint32_t w : ring) centre += mesh.vertices[w];
+      centre /= double(ring.size());
+      const Eigen::Vector3d old = mesh.vertices[v];
+      std::vector<Eigen::Vector3d> n_old;
+      for (uint32_t f : vf[v]) n_old.push_back(raw_normal(f).normalized());
+      bool ok = false;
+      for (const double step : {1.0, 0.5, 0.25}) {
+        const Eigen::Vector3d x = project(old + step * (centre - old));
+        if (!x.allFinite()) continue;
+        mesh.vertices[v] = x;
+        ok = fan_min(v) > before;
+        for (size_t k = 0; ok && k < vf[v].size(); ++k) {
+          const Eigen::Vector3d n = raw_normal(vf[v][k]);
+          ok = n.norm() > 0 && n.normalized().dot(n_old[k]) > cos_turn;
+        }
+        if (ok) break;
+      }
+      if (!ok) {
+        mesh.vertices[v] = old;
+        continue;
+      }
+      ++round_moves;
+      if (!moved[v]) out.push_back(v);
+      moved[v] = 1;
+    }
+    if (round_moves == 0) break;
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 }  // namespace mpumesh

@@ -39,4 +39,21 @@ ThinTriangleStats remove_thin_triangles(TriangleMesh& mesh,
                                         const std::function<double(const Eigen::Vector3d&)>& surface_distance,
                                         const ThinTriangleOptions& opt = {});
 
+// What collapses and flips cannot mend (a needle between two repair points 70 µm apart
+// whose ends share a third neighbour, so that the collapse would pinch the surface):
+// each vertex of a triangle under `below_deg` moves toward the mean of its neighbours (all
+// the way, half, a quarter), back onto the surface by `project`, when that raises the
+// smallest angle around it and turns none of its triangles by more than max_turn_deg.
+// Round by round, up to `rounds`. Returns the vertices moved (each once). No vertex with
+// `frozen` set moves.
+struct RelaxOptions {
+  double below_deg = 20;
+  double max_turn_deg = 30;
+  int rounds = 20;
+  const std::vector<char>* frozen = nullptr;  // per vertex
+};
+std::vector<uint32_t> relax_thin_triangles(TriangleMesh& mesh,
+                                           const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& project,
+                                           const RelaxOptions& opt = {});
+
 }  // namespace mpumesh

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "common/error.h"
+#include "common/lap_timer.h"
 #include "common/kd_tree.h"
 #include "mpu/local_fit.h"
 
@@ -243,13 +244,8 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   FitStats st;
   st.eps = eps;
   st.min_radius = min_radius;
-  auto lap = [t = t0]() mutable {
-    const auto now = std::chrono::steady_clock::now();
-    const double d = std::chrono::duration<double>(now - t).count();
-    t = now;
-    return d;
-  };
-  st.seconds_setup = lap();
+  LapTimer timer(t0);
+  st.seconds_setup = timer.lap();
   while (!level.empty()) {
     std::vector<Outcome> out(level.size());
     tbb::parallel_for(size_t(0), level.size(), [&](size_t i) { out[i] = process(level[i]); });
@@ -273,7 +269,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     s.leaves.resize(first + kept.size());
     tbb::parallel_for(size_t(0), kept.size(), [&](size_t k) { s.leaves[first + k] = out[kept[k]].leaf; });
     level = std::move(next);
-    st.seconds_by_depth.push_back(lap());
+    st.seconds_by_depth.push_back(timer.lap());
   }
   for (const Leaf& l : s.leaves) {
     if (l.kind == FitKind::kHeightOrthopoly) {
@@ -292,9 +288,9 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     std::nth_element(r.begin(), r.begin() + ptrdiff_t(r.size() / 2), r.end());
     cells = uint32_t(std::clamp(std::ceil(s.box_size / r[r.size() / 2]), 4.0, 256.0));
   }
-  lap();
+  timer.lap();
   build_lookup_grid(s, cells);
-  st.seconds_grid = lap();
+  st.seconds_grid = timer.lap();
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   st.duplicates_removed = duplicates;
   if (stats) *stats = st;

@@ -180,5 +180,35 @@ TEST(ThinTriangles, NeedleNextToAVertexIsCollapsed) {
   EXPECT_GT(after.volume_mm3, 0);
 }
 
+// A vertex pushed most of the way to a neighbour leaves thin triangles around it that no
+// collapse can take (its edges are not short against the others'); relaxing moves it
+// back toward its ring's centre, on the surface, with the triangles as they were.
+TEST(ThinTriangles, RelaxationMendsAPushedVertex) {
+  TriangleMesh m = test::icosphere(10.0, 3);
+  const auto t = m.triangles[0];
+  const uint32_t v = t[0];
+  m.vertices[v] = (m.vertices[v] + 0.85 * (m.vertices[t[1]] - m.vertices[v])).normalized() * 10.0;
+  ASSERT_LT(measure_quality(m, {}).angle_min, 10.0);
+  const auto project = [](const Eigen::Vector3d& x) { return Eigen::Vector3d(x.normalized() * 10.0); };
+  {
+    // With every vertex frozen, nothing moves.
+    TriangleMesh still = m;
+    std::vector<char> frozen(m.vertices.size(), 1);
+    RelaxOptions o;
+    o.frozen = &frozen;
+    EXPECT_TRUE(relax_thin_triangles(still, project, o).empty());
+    EXPECT_EQ(still.vertices, m.vertices);
+  }
+  const auto triangles = m.triangles;
+  const std::vector<uint32_t> moved = relax_thin_triangles(m, project);
+  const Quality after = measure_quality(m, {});
+  EXPECT_TRUE(std::find(moved.begin(), moved.end(), v) != moved.end());
+  EXPECT_GE(after.angle_min, 20.0);
+  EXPECT_EQ(m.triangles, triangles);
+  EXPECT_TRUE(after.topo.closed);
+  EXPECT_EQ(after.topo.genus, 0);
+  for (const auto& x : m.vertices) EXPECT_NEAR(x.norm(), 10.0, 1e-9);
+}
+
 }  // namespace
 }  // namespace mpumesh
