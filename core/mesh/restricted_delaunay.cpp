@@ -49,9 +49,11 @@ Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 // A cell's circumcentre from its vertices in id order: the same bits whichever order the
 // cell lists them in (which depends on the insertion history and, inserted in parallel, on
 // the threads), so that f's sign there, hence the mesh, is the same every run.
+bool by_id(const Dt::Vertex_handle& a, const Dt::Vertex_handle& b) { return a->info() < b->info(); }
+
 Eigen::Vector3d circumcentre(const Dt& dt, Cell c) {
   std::array<Dt::Vertex_handle, 4> v = {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
-  std::sort(v.begin(), v.end(), [](const Dt::Vertex_handle& a, const Dt::Vertex_handle& b) { return a->info() < b->info(); });
+  std::sort(v.begin(), v.end(), by_id);
   return vec(dt.geom_traits().construct_circumcenter_3_object()(v[0]->point(), v[1]->point(), v[2]->point(),
                                                                 v[3]->point()));
 }
@@ -88,7 +90,7 @@ Eigen::Vector3d crossing(const mpu::MpuSurface& s, const Dt& dt, Cell c, int i) 
   if (dt.is_infinite(n)) {
     // The facet's vertices in id order (see circumcentre).
     std::array<Dt::Vertex_handle, 3> f = {c->vertex((i + 1) & 3), c->vertex((i + 2) & 3), c->vertex((i + 3) & 3)};
-    std::sort(f.begin(), f.end(), [](const Dt::Vertex_handle& x, const Dt::Vertex_handle& y) { return x->info() < y->info(); });
+    std::sort(f.begin(), f.end(), by_id);
     const Eigen::Vector3d p0 = vec(f[0]->point()), p1 = vec(f[1]->point()), p2 = vec(f[2]->point()),
                           pi = vec(c->vertex(i)->point());
     Eigen::Vector3d dir = (p1 - p0).cross(p2 - p0);
@@ -345,9 +347,8 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
         const RFacet& rf = facets[need[k]];
         const Eigen::Vector3d x = crossing(s, dt, rf.cell, rf.i);
         // The ball's radius: the distance to the facet's vertex of smallest id.
-        Dt::Vertex_handle first = rf.cell->vertex((rf.i + 1) & 3);
-        for (int j = 2; j <= 3; ++j)
-          if (rf.cell->vertex((rf.i + j) & 3)->info() < first->info()) first = rf.cell->vertex((rf.i + j) & 3);
+        const Dt::Vertex_handle first = std::min(
+            {rf.cell->vertex((rf.i + 1) & 3), rf.cell->vertex((rf.i + 2) & 3), rf.cell->vertex((rf.i + 3) & 3)}, by_id);
         found[k] = {x, (x - vec(first->point())).norm()};
       }
     });

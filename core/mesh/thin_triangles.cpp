@@ -235,7 +235,6 @@ std::vector<uint32_t> relax_thin_triangles(TriangleMesh& mesh,
     return Eigen::Vector3d((mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]));
   };
   const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
-  std::vector<char> moved(nv, 0);
   std::vector<uint32_t> out;
   // The triangles to look at: all at first, then those around the last round's vertices
   // (a move changes only the triangles around the vertex moved).
@@ -287,12 +286,12 @@ std::vector<uint32_t> relax_thin_triangles(TriangleMesh& mesh,
         continue;
       }
       ++round_moves;
-      if (!moved[v]) out.push_back(v);
-      moved[v] = 1;
+      out.push_back(v);
     }
     if (round_moves == 0) break;
   }
   std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 
