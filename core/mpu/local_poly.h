@@ -31,8 +31,14 @@ inline void bivariate_monomials(Real u, Real v, Real* m) {
 }
 
 // q, ∇q and the Hessian of q at y, in the scaled local frame.
-template <class Real>
-inline void local_poly(const Real* c, Real u, Real v, Real w, Real& q, Real g[3], Real h[6] /* uu uv uw vv vw ww */) {
+// The coefficients are c[0], c[kStride], c[2 kStride], ... (a stride for arrays that hold
+// many leaves' coefficients term by term).
+template <class Real, int kStride = 1>
+inline void local_poly(const Real* cs, Real u, Real v, Real w, Real& q, Real g[3], Real h[6] /* uu uv uw vv vw ww */) {
+  struct {
+    const Real* p;
+    Real operator[](int k) const { return p[k * kStride]; }
+  } c{cs};
   const Real u2 = u * u, v2 = v * v, uv = u * v;
   q = c[0] + c[1] * u + c[2] * v + c[3] * u2 + c[4] * uv + c[5] * v2 + c[6] * u2 * u + c[7] * u2 * v +
       c[8] * u * v2 + c[9] * v2 * v + c[10] * u2 * u2 + c[11] * u2 * uv + c[12] * u2 * v2 + c[13] * uv * v2 +

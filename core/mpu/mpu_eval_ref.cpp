@@ -24,9 +24,116 @@ bool grid_cell(const MpuSurface& s, const Eigen::Vector3d& x, size_t& cell) {
   return true;
 }
 
-// f, ∇f and (when kHessian) the Hessian; without it the Hessian terms are left out at
-// compile time and out.H stays zero.
-template <bool kHessian>
+// The evaluation runs in two passes over a point's leaves, so that its inner loops
+// vectorise: the sphere test collects the leaves whose support holds the point (in the
+// lookup grid's order) into chunks of up to kChunk; each chunk's leaf data are copied into
+// structure-of-arrays form, each leaf's weight and polynomial terms are computed in a loop
+// with no branches and no dependence between leaves, and the terms are summed in kLanes
+// running sums (leaf j into sum j mod kLanes, the sums added in a fixed order at the end),
+// so the result is the same bytes whatever vector width the compiler uses.
+// Order 0: f only; 1: f and ∇f; 2: f, ∇f and the Hessian.
+constexpr int kLanes = 8;
+constexpr int kChunk = 32;  // a multiple of kLanes
+
+// The leaves of one chunk, as structure of arrays.
+struct ChunkIn {
+  alignas(64) double dx[kChunk], dy[kChunk], dz[kChunk], r2[kChunk], R[kChunk];
+  alignas(64) double M[9][kChunk];
+  alignas(64) double c[kTerms][kChunk];
+};
+
+// Each leaf's terms at the point: weight w, its gradient gw and Hessian Hw, and the leaf
+// function Q with its gradient gQ and Hessian HQ, in world units. Symmetric 3x3 matrices
+// are kept as their 6 entries xx xy xz yy yz zz.
+struct ChunkTerms {
+  alignas(64) double w[kChunk], Q[kChunk];
+  alignas(64) double gw[3][kChunk], gQ[3][kChunk];
+  alignas(64) double Hw[6][kChunk], HQ[6][kChunk];
+};
+
+// Running sums about the first leaf's value f0 (f = f0 + N / D, as the shader takes them,
+// where float32 would lose the small f to the large Σ w Q).
+struct Sums {
+  alignas(64) double N[kLanes] = {}, D[kLanes] = {};
+  alignas(64) double gN[3][kLanes] = {}, gD[3][kLanes] = {};
+  alignas(64) double HN[6][kLanes] = {}, HD[6][kLanes] = {};
+};
+
+constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
+
+template <int kOrder>
+void chunk_terms(const ChunkIn& __restrict in, int n, ChunkTerms& __restrict t) {
+  for (int j = 0; j < n; ++j) {
+    const double R = in.R[j], r2 = in.r2[j], dx = in.dx[j], dy = in.dy[j], dz = in.dz[j];
+    const double r = std::sqrt(r2);
+    double w, dw, d2w;
+    bspline_weight(r, R, w, dw, d2w);
+    const double invR = 1.0 / R;
+    const double M[9] = {in.M[0][j], in.M[1][j], in.M[2][j], in.M[3][j], in.M[4][j],
+                         in.M[5][j], in.M[6][j], in.M[7][j], in.M[8][j]};
+    const double yu = (M[0] * dx + M[1] * dy + M[2] * dz) * invR;
+    const double yv = (M[3] * dx + M[4] * dy + M[5] * dz) * invR;
+    const double yw = (M[6] * dx + M[7] * dy + M[8] * dz) * invR;
+    double q, gq[3], hq[6];
+    local_poly<double, kChunk>(&in.c[0][j], yu, yv, yw, q, gq, hq);
+    t.w[j] = w;
+    t.Q[j] = R * q;  // world units: Q = R q, ∇Q = Mᵀ ∇q, HQ = Mᵀ Hq M / R
+    if constexpr (kOrder >= 1) {
+      // ∇w = k1 d, Hw = k1 I + k2 d dᵀ; inside t <= 1/2 the weight is 3/4 - t², whose
+      // k1 = dw/r = -2 s² stays finite at r = 0.
+      const double sc = 1.5 * invR;
+      const bool inner = sc * r <= 0.5;
+      const double k1 = inner ? -2 * sc * sc : dw / r;
+      const double d[3] = {dx, dy, dz};
+      for (int i = 0; i < 3; ++i) {
+        t.gw[i][j] = k1 * d[i];
+        t.gQ[i][j] = M[i] * gq[0] + M[3 + i] * gq[1] + M[6 + i] * gq[2];
+      }
+      if constexpr (kOrder >= 2) {
+        const double k2 = inner ? 0.0 : (d2w - dw / r) / r2;
+        const double Hl[3][3] = {{hq[0], hq[1], hq[2]}, {hq[1], hq[3], hq[4]}, {hq[2], hq[4], hq[5]}};
+        double A[3][3];
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) A[a][b] = Hl[a][0] * M[b] + Hl[a][1] * M[3 + b] + Hl[a][2] * M[6 + b];
+        for (int e = 0; e < 6; ++e) {
+          const int i = kI[e], k = kJ[e];
+          t.HQ[e][j] = (M[i] * A[0][k] + M[3 + i] * A[1][k] + M[6 + i] * A[2][k]) * invR;
+          t.Hw[e][j] = (i == k ? k1 : 0.0) + k2 * d[i] * d[k];
+        }
+      }
+    }
+  }
+}
+
+template <int kOrder>
+void chunk_sums(const ChunkTerms& __restrict t, int n, double f0, Sums& __restrict s) {
+  for (int b = 0; b < n; b += kLanes)
+    for (int l = 0; l < kLanes; ++l) {
+      const int j = b + l;
+      const double w = t.w[j], Qs = t.Q[j] - f0;
+      s.N[l] += w * Qs;
+      s.D[l] += w;
+      if constexpr (kOrder >= 1)
+        for (int i = 0; i < 3; ++i) {
+          s.gN[i][l] += Qs * t.gw[i][j] + w * t.gQ[i][j];
+          s.gD[i][l] += t.gw[i][j];
+        }
+      if constexpr (kOrder >= 2)
+        for (int e = 0; e < 6; ++e) {
+          const int i = kI[e], k = kJ[e];
+          s.HN[e][l] += Qs * t.Hw[e][j] + t.gw[i][j] * t.gQ[k][j] + t.gQ[i][j] * t.gw[k][j] + w * t.HQ[e][j];
+          s.HD[e][l] += t.Hw[e][j];
+        }
+    }
+}
+
+double lane_total(const double (&v)[kLanes]) {
+  double a = 0;
+  for (int l = 0; l < kLanes; ++l) a += v[l];
+  return a;
+}
+
+template <int kOrder>
 Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
   Sample out;
   size_t cell;
@@ -34,120 +141,86 @@ Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
     out.f = s.box_size;
     return out;
   }
-  // Sums about the first leaf's value f0 (f = f0 + N / D), as the shader takes them, where
-  // float32 would lose the small f to the large Σ w Q. Symmetric 3x3 matrices are kept as
-  // their 6 entries xx xy xz yy yz zz, and the loop is written out in scalars: it is the
-  // CPU path's inner loop.
-  double f0 = 0, N = 0, D = 0;
-  double gN[3] = {0, 0, 0}, gD[3] = {0, 0, 0}, HN[6] = {0, 0, 0, 0, 0, 0}, HD[6] = {0, 0, 0, 0, 0, 0};
-  const double px = x.x(), py = x.y(), pz = x.z();
   MPUMESH_ASSERT(s.grid.spheres.size() == s.leaves.size(), "MPU surface without its sphere index");
+  const double px = x.x(), py = x.y(), pz = x.z();
+  ChunkIn in;
+  ChunkTerms t;
+  Sums sums;
+  double f0 = 0;
+  int n = 0;
+  uint32_t ids[kChunk];
+  auto flush = [&] {
+    for (int j = 0; j < n; ++j) {
+      const Leaf& l = s.leaves[ids[j]];
+      in.R[j] = l.radius;
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b) in.M[3 * a + b][j] = l.frame(a, b);
+      for (int e = 0; e < kTerms; ++e) in.c[e][j] = l.coeffs[size_t(e)];
+    }
+    // Pad to whole lanes with leaves far outside their support (zero weight and terms).
+    const int padded = (n + kLanes - 1) / kLanes * kLanes;
+    for (int j = n; j < padded; ++j) {
+      in.dx[j] = 4 * in.R[0];
+      in.dy[j] = in.dz[j] = 0;
+      in.r2[j] = in.dx[j] * in.dx[j];
+      in.R[j] = in.R[0];
+      for (int e = 0; e < 9; ++e) in.M[e][j] = in.M[e][0];
+      for (int e = 0; e < kTerms; ++e) in.c[e][j] = in.c[e][0];
+    }
+    chunk_terms<kOrder>(in, padded, t);
+    if (out.leaves == 0) f0 = t.Q[0];
+    chunk_sums<kOrder>(t, padded, f0, sums);
+    out.leaves += n;
+    n = 0;
+  };
+  // The compact support test, which most candidates fail: written without a branch on
+  // its outcome (a hit only advances n), as it is hard to predict.
   for (uint32_t k = s.grid.offsets[cell]; k < s.grid.offsets[cell + 1]; ++k) {
     const uint32_t id = s.grid.leaf_ids[k];
     const Eigen::Vector4d& sp = s.grid.spheres[id];
     const double dx = px - sp[0], dy = py - sp[1], dz = pz - sp[2];
     const double r2 = dx * dx + dy * dy + dz * dz;
-    if (r2 >= sp[3]) continue;
-    const Leaf& l = s.leaves[id];
-    const double R = l.radius;
-    const double r = std::sqrt(r2);
-    double w, dw, d2w;
-    bspline_weight(r, R, w, dw, d2w);
-    // ∇w = k1 d, Hw = k1 I + k2 d dᵀ; inside t <= 1/2 the weight is 3/4 - t², whose
-    // k1 = dw/r = -2 s² stays finite at r = 0.
-    const double sc = 1.5 / R;
-    const bool inner = sc * r <= 0.5;
-    const double k1 = inner ? -2 * sc * sc : dw / r;
-    const double k2 = inner ? 0.0 : (d2w - dw / r) / r2;
-    const Eigen::Matrix3d& M = l.frame;
-    const double invR = 1.0 / R;
-    const double yu = (M(0, 0) * dx + M(0, 1) * dy + M(0, 2) * dz) * invR;
-    const double yv = (M(1, 0) * dx + M(1, 1) * dy + M(1, 2) * dz) * invR;
-    const double yw = (M(2, 0) * dx + M(2, 1) * dy + M(2, 2) * dz) * invR;
-    double q, gq[3], hq[6];
-    local_poly(l.coeffs.data(), yu, yv, yw, q, gq, hq);
-    // World units: Q = R q, ∇Q = Mᵀ ∇q, HQ = Mᵀ Hq M / R.
-    const double Q = R * q;
-    double gQ[3], HQ[6] = {0, 0, 0, 0, 0, 0};
-    for (int i = 0; i < 3; ++i) gQ[i] = M(0, i) * gq[0] + M(1, i) * gq[1] + M(2, i) * gq[2];
-    static constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
-    if constexpr (kHessian) {
-      double A[3][3];
-      const double Hl[3][3] = {{hq[0], hq[1], hq[2]}, {hq[1], hq[3], hq[4]}, {hq[2], hq[4], hq[5]}};
-      for (int a = 0; a < 3; ++a)
-        for (int j = 0; j < 3; ++j) A[a][j] = Hl[a][0] * M(0, j) + Hl[a][1] * M(1, j) + Hl[a][2] * M(2, j);
-      for (int e = 0; e < 6; ++e) {
-        const int i = kI[e], j = kJ[e];
-        HQ[e] = (M(0, i) * A[0][j] + M(1, i) * A[1][j] + M(2, i) * A[2][j]) * invR;
-      }
-    }
-    if (out.leaves == 0) f0 = Q;
-    const double Qs = Q - f0;
-    const double d[3] = {dx, dy, dz};
-    double gw[3];
-    for (int i = 0; i < 3; ++i) gw[i] = k1 * d[i];
-    N += w * Qs;
-    D += w;
-    for (int i = 0; i < 3; ++i) {
-      gN[i] += Qs * gw[i] + w * gQ[i];
-      gD[i] += gw[i];
-    }
-    if constexpr (kHessian)
-      for (int e = 0; e < 6; ++e) {
-        const int i = kI[e], j = kJ[e];
-        const double Hw = (i == j ? k1 : 0.0) + k2 * d[i] * d[j];
-        HN[e] += Qs * Hw + gw[i] * gQ[j] + gQ[i] * gw[j] + w * HQ[e];
-        HD[e] += Hw;
-      }
-    ++out.leaves;
+    ids[n] = id;
+    in.dx[n] = dx;
+    in.dy[n] = dy;
+    in.dz[n] = dz;
+    in.r2[n] = r2;
+    n += r2 < sp[3];
+    if (n == kChunk) flush();
   }
+  if (n > 0) flush();
+  const double D = lane_total(sums.D);
   if (!(D > 0)) {
     out.f = s.box_size;
     out.leaves = 0;
     return out;
   }
-  const double fs = N / D;
+  const double fs = lane_total(sums.N) / D;
   out.f = f0 + fs;
-  for (int i = 0; i < 3; ++i) out.g[i] = (gN[i] - fs * gD[i]) / D;
-  static constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
-  if constexpr (kHessian)
-    for (int e = 0; e < 6; ++e) {
-      const int i = kI[e], j = kJ[e];
-      const double h = (HN[e] - fs * HD[e] - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
-      out.H(i, j) = h;
-      out.H(j, i) = h;
+  if constexpr (kOrder >= 1) {
+    double gD[3];
+    for (int i = 0; i < 3; ++i) {
+      gD[i] = lane_total(sums.gD[i]);
+      out.g[i] = (lane_total(sums.gN[i]) - fs * gD[i]) / D;
     }
+    if constexpr (kOrder >= 2)
+      for (int e = 0; e < 6; ++e) {
+        const int i = kI[e], j = kJ[e];
+        const double h = (lane_total(sums.HN[e]) - fs * lane_total(sums.HD[e]) - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
+        out.H(i, j) = h;
+        out.H(j, i) = h;
+      }
+  }
   return out;
 }
 
 }  // namespace
 
-Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<true>(s, x); }
+Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<2>(s, x); }
 
-Sample evaluate_fg(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<false>(s, x); }
+Sample evaluate_fg(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<1>(s, x); }
 
-double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x) {
-  size_t cell;
-  if (!grid_cell(s, x, cell)) return s.box_size;
-  double N = 0, D = 0;
-  for (uint32_t k = s.grid.offsets[cell]; k < s.grid.offsets[cell + 1]; ++k) {
-    const uint32_t id = s.grid.leaf_ids[k];
-    const Eigen::Vector4d& sp = s.grid.spheres[id];
-    const double r2 = (x - sp.head<3>()).squaredNorm();
-    if (r2 >= sp[3]) continue;  // the compact support test first, as in evaluate
-    const Leaf& l = s.leaves[id];
-    const Eigen::Vector3d d = x - l.centre;
-    const double r = std::sqrt(r2);
-    double w, dw, d2w;
-    bspline_weight(r, l.radius, w, dw, d2w);
-    const Eigen::Vector3d y = l.frame * d / l.radius;
-    double q, gq[3], hq[6];
-    local_poly(l.coeffs.data(), y.x(), y.y(), y.z(), q, gq, hq);
-    N += w * l.radius * q;
-    D += w;
-  }
-  return D > 0 ? N / D : s.box_size;
-}
+double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<0>(s, x).f; }
 
 Curvature curvature(const Eigen::Vector3d& g, const Eigen::Matrix3d& H) {
   Curvature c;
