@@ -479,13 +479,16 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     stats.seconds_iterate += seconds_since(t_iter);
     const auto t_pop = Clock::now();
     ++update;
-    lambda = curvature_weights(st.curv, st.distance, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
-    // Thickness for all every 4th update (it costs up to 12 evaluations a particle);
-    // new particles get theirs when they are made.
-    if (update % 4 == 0) thickness = thicknesses(s, st, lambda, h / opt.thickness_factor);
-    tg = spacing_targets(lambda, thickness, h, opt);
-    for (size_t i = 0; i < st.size(); ++i) st.target[i] = tg.spacing[i] / kSpacingPerSigma;
-    stats.thickness_bound = tg.thickness_bound;
+    // New targets for the next batch (none follows the final one): thickness for all
+    // every 4th update (it costs up to 18 evaluations a particle); children take
+    // their parent's (below).
+    if (!final_batch) {
+      lambda = curvature_weights(st.curv, st.distance, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
+      if (update % 4 == 0) thickness = thicknesses(s, st, lambda, h / opt.thickness_factor);
+      tg = spacing_targets(lambda, thickness, h, opt);
+      for (size_t i = 0; i < st.size(); ++i) st.target[i] = tg.spacing[i] / kSpacingPerSigma;
+      stats.thickness_bound = tg.thickness_bound;
+    }
 
     PopulationRecord rec;
     rec.iteration = it;
@@ -523,24 +526,17 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
         if (split) offset[i] = 0.5 * st.sigma[i] * tangent(st.normal[i], hash01(uint32_t(i), uint32_t(it), opt.seed, 1));
         push(i, st.x[i] - offset[i], split ? st.sigma[i] / std::sqrt(2.0) : st.sigma[i]);
       }
-      std::vector<double> child_lambda;
-      const size_t survivors = next.size();
       for (size_t i = 0; i < st.size(); ++i)
         if (fate[i] == kSplit) {
           push(i, st.x[i] + offset[i], st.sigma[i] / std::sqrt(2.0));
-          child_lambda.push_back(lambda[i]);
           ++rec.births;
         }
+      // Children keep their parent's thickness, measured on the surface: measured at
+      // their own positions, half a radius along the tangent plane and so off a curved
+      // surface, the search toward the near side crossed f = 0 at once and gave them a
+      // thickness near zero (and a spacing at the floor, hence more splits).
       st = std::move(next);
       thickness = std::move(next_thick);
-      if (!child_lambda.empty()) {
-        ParticleState kids;
-        kids.x.assign(st.x.begin() + ptrdiff_t(survivors), st.x.end());
-        kids.normal.assign(st.normal.begin() + ptrdiff_t(survivors), st.normal.end());
-        kids.distance.assign(kids.x.size(), 0.0);
-        const std::vector<double> t = thicknesses(s, kids, child_lambda, h / opt.thickness_factor);
-        std::copy(t.begin(), t.end(), thickness.begin() + ptrdiff_t(survivors));
-      }
       order_spatially(st, thickness);
       stats.births += rec.births;
       stats.deaths += rec.deaths;
