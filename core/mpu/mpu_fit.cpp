@@ -21,7 +21,7 @@ struct Cell {
   Eigen::Vector3d centre;
   double size;
   int depth;
-  std::array<int64_t, 3> ijk;  // index among the cells of its depth: corner box_min + ijk size
+  std::array<int64_t, 3> ijk;  // index among the cells of its depth: lowest corner box_min + ijk size
 };
 
 }  // namespace
@@ -264,7 +264,14 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     return o;
   };
 
-  std::vector<Cell> level = {{s.box_min + Eigen::Vector3d::Constant(0.5 * s.box_size), s.box_size, 0, {0, 0, 0}}};
+  // A cell from its depth and index: the centre follows from the index, as the corners do.
+  auto make_cell = [&](int depth, const std::array<int64_t, 3>& ijk) {
+    const double size = s.box_size / double(int64_t(1) << depth);
+    const Eigen::Vector3d centre =
+        s.box_min + size * Eigen::Vector3d(double(ijk[0]) + 0.5, double(ijk[1]) + 0.5, double(ijk[2]) + 0.5);
+    return Cell{centre, size, depth, ijk};
+  };
+  std::vector<Cell> level = {make_cell(0, {0, 0, 0})};
   FitStats st;
   st.eps = eps;
   st.min_radius = min_radius;
@@ -280,9 +287,8 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
       const Cell& c = level[i];
       if (out[i].split) {
         for (int k = 0; k < 8; ++k)
-          next.push_back({c.centre + 0.25 * c.size * Eigen::Vector3d(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1),
-                          0.5 * c.size, c.depth + 1,
-                          {2 * c.ijk[0] + (k & 1), 2 * c.ijk[1] + ((k >> 1) & 1), 2 * c.ijk[2] + ((k >> 2) & 1)}});
+          next.push_back(make_cell(
+              c.depth + 1, {2 * c.ijk[0] + (k & 1), 2 * c.ijk[1] + ((k >> 1) & 1), 2 * c.ijk[2] + ((k >> 2) & 1)}));
         continue;
       }
       st.over_eps += out[i].error > eps;
