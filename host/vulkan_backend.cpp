@@ -32,13 +32,6 @@ seg::ChanVeseResult VulkanBackend::chan_vese(const seg::ChanVeseStack& stack, co
   return cv_->run(stack, p, kernel_ms_);
 }
 
-std::vector<mpu::EvalRow> VulkanBackend::mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
-  if (!mpu_) mpu_ = std::make_unique<MpuEvalKernel>(ctx_);
-  kernel_ms_.clear();
-  const MpuDeviceSurface dev(ctx_, s);
-  return mpu_->run(dev, points, kernel_ms_);
-}
-
 namespace {
 
 // Which surface is resident: a hash of every leaf's centre, radius and constant term (an
@@ -65,22 +58,56 @@ uint64_t fingerprint(const mpu::MpuSurface& s) {
   });
   uint64_t h = 1469598103934665603ull ^ s.leaves.size();
   for (const uint64_t p : part) h = (h ^ p) * 1099511628211ull;
+  h = (h ^ s.grid.leaf_ids.size()) * 1099511628211ull;
+  h = (h ^ s.grid.offsets.size()) * 1099511628211ull;
   return h;
 }
 
 }  // namespace
 
-void VulkanBackend::particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,
-                                        const particles::StepParams& p, int iterations) {
-  if (!particles_) particles_ = std::make_unique<ParticleKernel>(ctx_);
-  // The surface stays on the device between the batches of one run (kernel times add up).
+const MpuDeviceSurface& VulkanBackend::resident(const mpu::MpuSurface& s) {
   const uint64_t id = fingerprint(s);
   if (!resident_ || resident_id_ != id) {
+    resident_.reset();  // the old one's memory first
     resident_ = std::make_unique<MpuDeviceSurface>(ctx_, s);
     resident_id_ = id;
     kernel_ms_.clear();
   }
-  particles_->run(*resident_, st, p, iterations, kernel_ms_);
+  return *resident_;
+}
+
+std::vector<mpu::EvalRow> VulkanBackend::mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
+  if (!mpu_) mpu_ = std::make_unique<MpuEvalKernel>(ctx_);
+  const MpuDeviceSurface& dev = resident(s);
+  kernel_ms_.clear();
+  return mpu_->run(dev, points, kernel_ms_);
+}
+
+std::vector<double> VulkanBackend::mpu_f(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
+  if (!mpu_) mpu_ = std::make_unique<MpuEvalKernel>(ctx_);
+  const MpuDeviceSurface& dev = resident(s);
+  kernel_ms_.clear();
+  return mpu_->run_f(dev, points, kernel_ms_);
+}
+
+// The particle calls add to the kernel times, so that a whole sampling run's show.
+void VulkanBackend::particle_project(const mpu::MpuSurface& s, particles::ParticleState& st,
+                                     const particles::StepParams& p) {
+  if (!particles_) particles_ = std::make_unique<ParticleKernel>(ctx_);
+  particles_->project(resident(s), st, p, kernel_ms_);
+}
+
+std::vector<double> VulkanBackend::thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,
+                                             const std::vector<Eigen::Vector3d>& n,
+                                             const std::vector<double>& max_dist) {
+  if (!particles_) particles_ = std::make_unique<ParticleKernel>(ctx_);
+  return particles_->thickness(resident(s), x, n, max_dist, kernel_ms_);
+}
+
+void VulkanBackend::particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,
+                                        const particles::StepParams& p, int iterations) {
+  if (!particles_) particles_ = std::make_unique<ParticleKernel>(ctx_);
+  particles_->run(resident(s), st, p, iterations, kernel_ms_);
 }
 
 BackendChoice make_backend(const std::string& name, int device_index) {

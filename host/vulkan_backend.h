@@ -26,14 +26,22 @@ class VulkanBackend : public ComputeBackend {
   std::string device() const override;
   mc::McMesh marching_cubes(const mc::McField& field) override;
   seg::ChanVeseResult chan_vese(const seg::ChanVeseStack& stack, const seg::ChanVeseParams& p) override;
-  // Uploads the surface on each call (host/kernels/mpu_eval_vk.h keeps one resident).
+  // The MPU kernels keep the last surface on the device (resident()): the calls of one
+  // run upload it once.
   std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) override;
-  // Keeps the last surface on the device, for the batches of one particle run.
+  std::vector<double> mpu_f(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) override;
+  void particle_project(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p) override;
+  std::vector<double> thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,
+                                const std::vector<Eigen::Vector3d>& n, const std::vector<double>& max_dist) override;
   void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p,
                            int iterations) override;
   Context& context() { return ctx_; }
 
  private:
+  // The surface on the device, uploaded when it is not the resident one (which clears the
+  // kernel times).
+  const MpuDeviceSurface& resident(const mpu::MpuSurface& s);
+
   Context ctx_;
   std::unique_ptr<McKernel> mc_;
   std::unique_ptr<ChanVeseKernel> cv_;

@@ -1,5 +1,5 @@
 // MPU evaluation: f, ∇f and curvature (κ1, κ2, K, mean) at each query point, one
-// invocation per point. CPU reference: core/mpu/mpu_eval_ref.cpp (evaluate, curvature).
+// invocation per point; f and ∇f alone when pc.value_only is set (a uniform branch). CPU reference: core/mpu/mpu_eval_ref.cpp (evaluate, curvature).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shared/mpu_abi.h"
@@ -20,7 +20,7 @@ layout(push_constant) uniform Push { MpuPush pc; };
 void main() {
   uint i = linear_invocation(pc.row);
   if (i >= pc.count) return;
-  MpuSample s = mpu_evaluate(points[i].xyz);
+  MpuSample s = mpu_evaluate_opt(points[i].xyz, pc.value_only == 0u);
   fg[i] = vec4(s.f, s.g);
-  curv[i] = mpu_curvature(s.g, s.H);
+  if (pc.value_only == 0u) curv[i] = mpu_curvature(s.g, s.H);
 }

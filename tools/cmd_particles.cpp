@@ -322,7 +322,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       progress.end();
       progress.begin("triangulate");
       RestrictedDelaunayStats tst;
-      TriangleMesh mesh = restricted_delaunay(s, ps.x, &tst);
+      TriangleMesh mesh = restricted_delaunay(s, ps.x, &tst, 0, choice.backend.get());
       progress.end();
       const Topology topo = analyze_topology(mesh);
       if (!topo.closed || !topo.oriented)

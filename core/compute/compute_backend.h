@@ -30,6 +30,19 @@ class ComputeBackend {
   // f, ∇f and curvature of an MPU surface at each point; see core/mpu/mpu_eval_ref.h.
   virtual std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) = 0;
 
+  // f alone at each point (mpu::evaluate_f; computed in float32 on a GPU).
+  virtual std::vector<double> mpu_f(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) = 0;
+
+  // Each particle moved onto f = 0 by p.newton_steps Newton steps, with its normal,
+  // distance and curvature there: particles::project_step with the curvature.
+  virtual void particle_project(const mpu::MpuSurface& s, particles::ParticleState& st,
+                                const particles::StepParams& p) = 0;
+
+  // particles::local_thickness(s, x[i], n[i], max_dist[i]) for every i.
+  virtual std::vector<double> thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,
+                                        const std::vector<Eigen::Vector3d>& n,
+                                        const std::vector<double>& max_dist) = 0;
+
   // `iterations` steps of the particle system on the surface; see
   // core/particles/particle_step_ref.h.
   virtual void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,

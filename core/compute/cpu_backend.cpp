@@ -1,6 +1,7 @@
 #include "compute/cpu_backend.h"
 
 #include <tbb/info.h>
+#include <tbb/parallel_for.h>
 
 #include <chrono>
 
@@ -38,6 +39,24 @@ std::vector<mpu::EvalRow> CpuBackend::mpu_eval(const mpu::MpuSurface& s, const s
   kernel_ms_.clear();
   kernel_ms_["mpu_eval"] = ms_since(t0);
   return rows;
+}
+
+std::vector<double> CpuBackend::mpu_f(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> f(points.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) f[i] = mpu::evaluate_f(s, points[i]);
+  });
+  return f;
+}
+
+void CpuBackend::particle_project(const mpu::MpuSurface& s, particles::ParticleState& st,
+                                  const particles::StepParams& p) {
+  particles::project_step(s, st, p, true);
+}
+
+std::vector<double> CpuBackend::thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,
+                                          const std::vector<Eigen::Vector3d>& n, const std::vector<double>& max_dist) {
+  return particles::thickness_step(s, x, n, max_dist);
 }
 
 void CpuBackend::particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,

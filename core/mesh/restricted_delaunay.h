@@ -19,6 +19,8 @@
 
 namespace mpumesh {
 
+class ComputeBackend;
+
 struct RestrictedDelaunayStats {
   int64_t particles = 0;       // points given
   int64_t repair_points = 0;   // points added for a manifold (and used by the mesh)
@@ -38,9 +40,11 @@ struct RestrictedDelaunayStats {
 // The mesh's vertices are the used particles (in their given order), then the repair
 // points (less those that edge collapses merged away). The repair stops with a
 // NumericalError after max_repair_points (0: the larger of 20,000 and the particle count)
-// or 100 rounds. The same points give the same mesh.
+// or 100 rounds. f at the Voronoi vertices is computed on `backend` (on the CPU when
+// null); the rest runs on the CPU. The same points on the same backend give the same mesh.
 TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
-                                 RestrictedDelaunayStats* stats = nullptr, int64_t max_repair_points = 0);
+                                 RestrictedDelaunayStats* stats = nullptr, int64_t max_repair_points = 0,
+                                 ComputeBackend* backend = nullptr);
 
 // Orients the triangles of each edge-connected component consistently (breadth-first
 // through shared edges; the mesh must be manifold) and then each component so that its

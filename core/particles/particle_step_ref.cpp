@@ -213,6 +213,38 @@ void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams&
   });
 }
 
+double local_thickness(const mpu::MpuSurface& s, const Eigen::Vector3d& x, const Eigen::Vector3d& n, double max_dist) {
+  double best = INFINITY;
+  if (!(max_dist > 0) || !std::isfinite(max_dist)) return best;
+  for (const double dir : {-1.0, 1.0}) {
+    const double step = std::min(best, max_dist) / kThicknessSteps;
+    // Inward (dir < 0) f is negative until the opposite sheet; outward positive until the
+    // next one.
+    auto crossed = [&](double t) { return dir * mpu::evaluate_f(s, x + dir * t * n) < 0; };
+    for (int k = 1; k <= kThicknessSteps; ++k) {
+      const double t = k * step;
+      if (!crossed(t)) continue;
+      double a = (k - 1) * step, b = t;
+      for (int it = 0; it < kThicknessBisections; ++it) {
+        const double m = 0.5 * (a + b);
+        (crossed(m) ? b : a) = m;
+      }
+      best = std::min(best, 0.5 * (a + b));
+      break;
+    }
+  }
+  return best;
+}
+
+std::vector<double> thickness_step(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,
+                                   const std::vector<Eigen::Vector3d>& n, const std::vector<double>& max_dist) {
+  std::vector<double> t(x.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, x.size(), 128), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) t[i] = local_thickness(s, x[i], n[i], max_dist[i]);
+  });
+  return t;
+}
+
 void particle_iterations(const mpu::MpuSurface& s, ParticleState& st, const StepParams& p, int iterations) {
   std::vector<Eigen::Vector3d> x_new;
   std::vector<double> sigma_new;

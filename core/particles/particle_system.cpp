@@ -207,16 +207,14 @@ Targets spacing_targets(const std::vector<double>& lambda, const std::vector<dou
   return t;
 }
 
-// Each particle's local thickness, searched up to reach · lambda[i] (the spacing that
-// curvature alone would give it, over the thickness factor: a thicker plate binds nothing).
-std::vector<double> thicknesses(const mpu::MpuSurface& s, const ParticleState& st, const std::vector<double>& lambda,
-                                double reach) {
-  std::vector<double> t(st.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, st.size(), 128), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i)
-      t[i] = std::isfinite(st.distance[i]) ? local_thickness(s, st.x[i], st.normal[i], reach * lambda[i]) : INFINITY;
-  });
-  return t;
+// Each particle's local thickness (local_thickness, on the backend), searched up to
+// reach · lambda[i] (the spacing that curvature alone would give it, over the thickness
+// factor: a thicker plate binds nothing); infinity for a lost particle.
+std::vector<double> thicknesses(ComputeBackend& backend, const mpu::MpuSurface& s, const ParticleState& st,
+                                const std::vector<double>& lambda, double reach) {
+  std::vector<double> max_dist(st.size());
+  for (size_t i = 0; i < st.size(); ++i) max_dist[i] = std::isfinite(st.distance[i]) ? reach * lambda[i] : NAN;
+  return backend.thickness(s, st.x, st.normal, max_dist);
 }
 
 }  // namespace
@@ -267,29 +265,6 @@ std::vector<uint8_t> decide_population(const ParticleState& st, const SampleOpti
     }
   }
   return fate;
-}
-
-double local_thickness(const mpu::MpuSurface& s, const Eigen::Vector3d& x, const Eigen::Vector3d& n, double max_dist) {
-  constexpr int kSteps = 4;
-  double best = INFINITY;
-  for (const double dir : {-1.0, 1.0}) {
-    const double step = std::min(best, max_dist) / kSteps;
-    // Inward (dir < 0) f is negative until the opposite sheet; outward positive until the
-    // next one.
-    auto crossed = [&](double t) { return dir * mpu::evaluate_f(s, x + dir * t * n) < 0; };
-    for (int k = 1; k <= kSteps; ++k) {
-      double t = k * step;
-      if (!crossed(t)) continue;
-      double a = (k - 1) * step, b = t;
-      for (int it = 0; it < 5; ++it) {
-        const double m = 0.5 * (a + b);
-        (crossed(m) ? b : a) = m;
-      }
-      best = std::min(best, 0.5 * (a + b));
-      break;
-    }
-  }
-  return best;
 }
 
 std::vector<Eigen::Vector3d> leaf_candidates(const mpu::MpuSurface& s) {
@@ -353,8 +328,8 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     }
     StepParams proj = opt.step;
     proj.newton_steps = 8;
-    project_step(s, pool, proj);
-    check_finite(pool, 0, "the CPU (seeding)");  // project_step is the CPU reference
+    backend.particle_project(s, pool, proj);
+    check_finite(pool, 0, backend.device() + " (seeding)");
     // Keep those that reached the surface near where they started.
     size_t m = 0;
     for (size_t k = 0; k < pool.size(); ++k) {
@@ -399,7 +374,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     const double h0 = std::sqrt(inv / (kHexArea * double(opt.particles)));
     // count_for(h0) >= particles, and at most exp(2S) times that (the floor); bisect.
     const double hmax = h0 * std::exp(opt.curvature_scale);
-    thick = thicknesses(s, pool, std::vector<double>(pool.size(), 1.0), hmax / opt.thickness_factor);
+    thick = thicknesses(backend, s, pool, std::vector<double>(pool.size(), 1.0), hmax / opt.thickness_factor);
     double a = h0, b = hmax;
     if (count_for(b, thick) > double(opt.particles)) a = b;
     for (int it = 0; it < 40 && b > a * (1 + 1e-6); ++it) {
@@ -411,10 +386,10 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     // sampling gap: that would only add particles on detail the data do not hold.
     if (by_default && h < 0.5 * gap) {
       h = 0.5 * gap;
-      thick = thicknesses(s, pool, lambda, h / opt.thickness_factor);
+      thick = thicknesses(backend, s, pool, lambda, h / opt.thickness_factor);
     }
   } else {
-    thick = thicknesses(s, pool, lambda, h / opt.thickness_factor);
+    thick = thicknesses(backend, s, pool, lambda, h / opt.thickness_factor);
   }
 
   // 3. Seeds: a Poisson-disk subset of the pool at each point's own target spacing. The
@@ -484,7 +459,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     // their parent's (below).
     if (!final_batch) {
       lambda = curvature_weights(st.curv, st.distance, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
-      if (update % 4 == 0) thickness = thicknesses(s, st, lambda, h / opt.thickness_factor);
+      if (update % 4 == 0) thickness = thicknesses(backend, s, st, lambda, h / opt.thickness_factor);
       tg = spacing_targets(lambda, thickness, h, opt);
       for (size_t i = 0; i < st.size(); ++i) st.target[i] = tg.spacing[i] / kSpacingPerSigma;
       stats.thickness_bound = tg.thickness_bound;

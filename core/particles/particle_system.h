@@ -94,11 +94,6 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
 // points.
 std::vector<Eigen::Vector3d> leaf_candidates(const mpu::MpuSurface& s);
 
-// Local thickness at x on the surface with outward normal n: the distance to the nearest
-// other sheet along -n (through the inside) or +n (across a gap), searched up to max_dist;
-// infinity when there is none that near.
-double local_thickness(const mpu::MpuSurface& s, const Eigen::Vector3d& x, const Eigen::Vector3d& n, double max_dist);
-
 // The population step's decision for each particle (see above), given the population cap.
 enum Fate : uint8_t { kKeep = 0, kSplit = 1, kDie = 2 };
 std::vector<uint8_t> decide_population(const ParticleState& st, const SampleOptions& opt, int iteration, int64_t cap);

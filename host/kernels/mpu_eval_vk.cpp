@@ -99,4 +99,35 @@ std::vector<mpu::EvalRow> MpuEvalKernel::run(const MpuDeviceSurface& s, const st
   return rows;
 }
 
+std::vector<double> MpuEvalKernel::run_f(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points,
+                                         std::map<std::string, double>& kernel_ms) {
+  std::vector<double> f(points.size());
+  for (size_t first = 0; first < points.size(); first += kChunk) {
+    const size_t n = std::min(kChunk, points.size() - first);
+    std::vector<abi::vec4> in(n);
+    for (size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d p = points[first + i] - s.origin;
+      in[i] = {float(p.x()), float(p.y()), float(p.z()), 0.f};
+    }
+    // Host-visible input and output: one submission a call (the triangulation makes one a
+    // repair round).
+    Buffer pts(ctx_, n * sizeof(abi::vec4), kStorage, Buffer::Kind::kStaging),
+        fg(ctx_, n * sizeof(abi::vec4), kStorage, Buffer::Kind::kStaging), unused(ctx_, sizeof(abi::vec4), kStorage);
+    pts.upload(in.data(), n * sizeof(abi::vec4));
+    abi::MpuPush push = s.push;
+    const Grid grid = grid_for(ctx_, n, eval_.workgroup_size());
+    push.count = uint32_t(n);
+    push.row = grid.row;
+    push.value_only = 1;
+    Recorder rec(ctx_);
+    const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &pts, &fg, &unused};
+    rec.dispatch(eval_, bufs, &push, grid, "mpu_eval_f");
+    rec.submit_and_wait();
+    for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+    const auto a = fg.read<abi::vec4>(n);
+    for (size_t i = 0; i < n; ++i) f[first + i] = a[i].x;
+  }
+  return f;
+}
+
 }  // namespace mpumesh::vk

@@ -29,6 +29,9 @@ class MpuEvalKernel {
   // Rows as mpu::evaluate_all gives them (computed in float32).
   std::vector<mpu::EvalRow> run(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points,
                                 std::map<std::string, double>& kernel_ms);
+  // f alone (the shader's value_only mode: no Hessian, no curvature).
+  std::vector<double> run_f(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points,
+                            std::map<std::string, double>& kernel_ms);
 
  private:
   Context& ctx_;

@@ -8,6 +8,7 @@
 #include "particle_grid_scatter.spv.h"
 #include "particle_project.spv.h"
 #include "particle_repulsion.spv.h"
+#include "particle_thickness.spv.h"
 #include "shared/particle_abi.h"
 #include "vk/command.h"
 
@@ -36,7 +37,101 @@ ParticleKernel::ParticleKernel(Context& ctx)
                bindings({MPU_BIND_LEAVES, MPU_BIND_OFFSETS, MPU_BIND_LEAF_IDS, PT_BIND_POS, PT_BIND_POS_NEW,
                          PT_BIND_NORMAL, PT_BIND_CURV}),
                sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
+      thickness_(ctx, kSpv_particle_thickness,
+                 bindings({MPU_BIND_LEAVES, MPU_BIND_OFFSETS, MPU_BIND_LEAF_IDS, PT_BIND_POS, PT_BIND_NORMAL,
+                           PT_BIND_STATS}),
+                 sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
       scan_(ctx) {}
+
+namespace {
+
+// The surface's part of the particle push block.
+abi::ParticlePush surface_push(const MpuDeviceSurface& s, size_t n) {
+  abi::ParticlePush push{};
+  push.box_min_x = s.push.box_min_x;
+  push.box_min_y = s.push.box_min_y;
+  push.box_min_z = s.push.box_min_z;
+  push.inv_cell = s.push.inv_cell;
+  push.nx = s.push.nx;
+  push.ny = s.push.ny;
+  push.nz = s.push.nz;
+  push.far_value = s.push.far_value;
+  push.count = uint32_t(n);
+  return push;
+}
+
+abi::vec4 rel4(const MpuDeviceSurface& s, const Eigen::Vector3d& x, double w) {
+  const Eigen::Vector3d r = x - s.origin;
+  return {float(r.x()), float(r.y()), float(r.z()), float(w)};
+}
+
+}  // namespace
+
+void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
+                             std::map<std::string, double>& kernel_ms) {
+  const size_t n = st.size();
+  if (n == 0) return;
+  const VkDeviceSize v4 = n * sizeof(abi::vec4);
+  std::vector<abi::vec4> in(n);
+  for (size_t i = 0; i < n; ++i) in[i] = rel4(s, st.x[i], st.sigma[i]);
+  // Host-visible input and outputs: one submission.
+  constexpr auto host = Buffer::Kind::kStaging;
+  Buffer b_in(ctx_, v4, kStorage, host), b_pos(ctx_, v4, kStorage, host), b_nrm(ctx_, v4, kStorage, host),
+      b_curv(ctx_, v4, kStorage, host);
+  b_in.upload(in.data(), v4);
+  abi::ParticlePush push = surface_push(s, n);
+  push.newton_steps = uint32_t(std::max(p.newton_steps, 1));
+  push.curvature = 1;
+  const Grid grid = grid_for(ctx_, n, project_.workgroup_size());
+  push.row = grid.row;
+  Recorder rec(ctx_);
+  const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &b_pos, &b_in, &b_nrm, &b_curv};
+  rec.dispatch(project_, bufs, &push, grid, "particle_project");
+  rec.submit_and_wait();
+  for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+  const auto pos = b_pos.read<abi::vec4>(n), nrm = b_nrm.read<abi::vec4>(n), curv = b_curv.read<abi::vec4>(n);
+  st.normal.resize(n);
+  st.distance.resize(n);
+  st.curv.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    st.x[i] = Eigen::Vector3d(pos[i].x, pos[i].y, pos[i].z) + s.origin;
+    st.normal[i] = Eigen::Vector3d(nrm[i].x, nrm[i].y, nrm[i].z);
+    st.distance[i] = nrm[i].w;
+    st.curv[i] = {curv[i].x, curv[i].y, curv[i].z, curv[i].w};
+  }
+}
+
+std::vector<double> ParticleKernel::thickness(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& x,
+                                              const std::vector<Eigen::Vector3d>& n,
+                                              const std::vector<double>& max_dist,
+                                              std::map<std::string, double>& kernel_ms) {
+  const size_t count = x.size();
+  std::vector<double> t(count, INFINITY);
+  if (count == 0) return t;
+  const VkDeviceSize v4 = count * sizeof(abi::vec4);
+  std::vector<abi::vec4> in(count), dir(count);
+  for (size_t i = 0; i < count; ++i) {
+    // A reach that is not positive and finite (a lost particle) is sent as 0: none.
+    const double reach = max_dist[i] > 0 && std::isfinite(max_dist[i]) ? max_dist[i] : 0.0;
+    in[i] = rel4(s, x[i], reach);
+    dir[i] = {float(n[i].x()), float(n[i].y()), float(n[i].z()), 0.f};
+  }
+  constexpr auto host = Buffer::Kind::kStaging;  // one submission (see project)
+  Buffer b_pos(ctx_, v4, kStorage, host), b_nrm(ctx_, v4, kStorage, host), b_out(ctx_, v4, kStorage, host);
+  b_pos.upload(in.data(), v4);
+  b_nrm.upload(dir.data(), v4);
+  abi::ParticlePush push = surface_push(s, count);
+  const Grid grid = grid_for(ctx_, count, thickness_.workgroup_size());
+  push.row = grid.row;
+  Recorder rec(ctx_);
+  const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &b_pos, &b_nrm, &b_out};
+  rec.dispatch(thickness_, bufs, &push, grid, "particle_thickness");
+  rec.submit_and_wait();
+  for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+  const auto out = b_out.read<abi::vec4>(count);
+  for (size_t i = 0; i < count; ++i) t[i] = out[i].x;  // +inf stays +inf
+  return t;
+}
 
 void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
                          int iterations, std::map<std::string, double>& kernel_ms) {
@@ -61,16 +156,7 @@ void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st
   const double margin = iterations * p.max_move * std::max(smax, std::min(p.sigma_cap, 1e6));
   lo.array() -= margin;
   hi.array() += margin;
-  abi::ParticlePush push{};
-  push.box_min_x = s.push.box_min_x;
-  push.box_min_y = s.push.box_min_y;
-  push.box_min_z = s.push.box_min_z;
-  push.inv_cell = s.push.inv_cell;
-  push.nx = s.push.nx;
-  push.ny = s.push.ny;
-  push.nz = s.push.nz;
-  push.far_value = s.push.far_value;
-  push.count = uint32_t(n);
+  abi::ParticlePush push = surface_push(s, n);
   push.grid_x = float(lo.x());
   push.grid_y = float(lo.y());
   push.grid_z = float(lo.z());

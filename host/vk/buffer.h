@@ -15,6 +15,9 @@ namespace mpumesh::vk {
 
 class Buffer {
  public:
+  // kStaging: host-visible (cached where the device offers it) and mapped. Besides
+  // staging copies, a kernel may read or write it directly over the bus: small per-call
+  // inputs and outputs, which then need no copy submission of their own.
   enum class Kind { kDevice, kStaging };
   Buffer(Context& ctx, VkDeviceSize bytes, VkBufferUsageFlags usage, Kind kind = Kind::kDevice);
   ~Buffer();

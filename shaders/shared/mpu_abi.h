@@ -5,7 +5,8 @@
 //   [0] centre.xyz, R      [1] frame row u.xyz, 1/R   [2] row v.xyz, 0   [3] row w.xyz, 0
 //   [4..8] the 19 coefficients of core/mpu/local_poly.h, then one 0.
 // The lookup grid is CSR: offsets[cell], offsets[cell + 1] bound the cell's run of
-// leaf_ids. Output per point: vec4 (f, ∇f) and vec4 (κ1, κ2, K, mean curvature).
+// leaf_ids. Output per point: vec4 (f, ∇f) and vec4 (κ1, κ2, K, mean curvature); with
+// value_only set, vec4 (f, ∇f) alone (no Hessian; the curvature buffer is not written).
 #ifndef MPUMESH_MPU_ABI_H
 #define MPUMESH_MPU_ABI_H
 #include "shared/abi_prelude.h"
@@ -27,7 +28,8 @@ struct MpuPush {
   float far_value;                        // f where no leaf holds the point
   uint count;                             // points
   uint row;                               // invocations per dispatch row
-  uint pad0, pad1;
+  uint value_only;                        // 1: f and ∇f only
+  uint pad1;
 };
 ABI_END
 

@@ -78,6 +78,18 @@ TEST_P(MpuEvalVk, MatchesTheReferenceOnPointsNearTheSurface) {
   EXPECT_LE(d.angle_deg, 0.01);
   EXPECT_LE(d.gauss_rel, 1e-3);
   EXPECT_LE(d.kappa_rel, 1e-3);
+  // f alone (the shader's value_only mode; the triangulation's Voronoi vertices).
+  const std::vector<double> fc = cpu.mpu_f(s, points), fg = gpu->mpu_f(s, points);
+  ASSERT_EQ(fc.size(), points.size());
+  ASSERT_EQ(fg.size(), points.size());
+  double df = 0, dself = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    df = std::max(df, std::abs(fc[i] - fg[i]));
+    dself = std::max(dself, std::abs(fc[i] - rc[i].f));
+  }
+  std::printf("[ %s ] f alone: max |df| %.2e mm (CPU f alone vs with the rest: %.2e)\n", c.name, df, dself);
+  EXPECT_LE(df, 1e-4);
+  EXPECT_LE(dself, 1e-12);
   test::expect_no_validation_messages(*gpu);
 }
 

@@ -11,6 +11,9 @@
 #include "common/error.h"
 #include "compute/cpu_backend.h"
 #include "mpu/mpu_fit.h"
+#include "mesh/restricted_delaunay.h"
+#include "mesh/topology.h"
+#include "mpu/mpu_eval_ref.h"
 #include "particles/particle_system.h"
 #include "particles/spacing_stats.h"
 #include "test_support.h"
@@ -110,6 +113,83 @@ TEST(ParticlesVk, OneStepMatchesTheReference) {
   EXPECT_EQ(differ, 0);
 }
 
+// The seeding's projection (particle_project.comp alone, 8 Newton steps, with the
+// curvature) from points 0.4 mm off the surface, against project_step.
+TEST(ParticlesVk, ProjectionMatchesTheReference) {
+  MPUMESH_VULKAN_OR_SKIP(gpu);
+  const Fitted f = fitted_ellipsoid();
+  CpuBackend cpu;
+  ParticleState a;
+  for (size_t i = 0; i < f.cloud.size(); i += 17) {
+    a.x.push_back(f.cloud.positions[i] + 0.4 * f.cloud.normals[i] * (i % 2 ? 1.0 : -1.0));
+    a.sigma.push_back(1.0);
+  }
+  a.resize(a.x.size());
+  ParticleState b = a;
+  particles::StepParams p;
+  p.newton_steps = 8;
+  cpu.particle_project(f.surface, a, p);
+  gpu->particle_project(f.surface, b, p);
+  test::expect_no_validation_messages(*gpu);
+  double dx = 0, dd = 0, dn = 0, dK = 0, truth = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    dx = std::max(dx, (a.x[i] - b.x[i]).norm());
+    dd = std::max(dd, std::abs(a.distance[i] - b.distance[i]));
+    dn = std::max(dn, (a.normal[i] - b.normal[i]).norm());
+    const double K = std::abs(a.curv[i].gauss);
+    if (K > 1e-4) dK = std::max(dK, std::abs(a.curv[i].gauss - b.curv[i].gauss) / K);
+    truth = std::max(truth, std::abs(f.shape.distance(a.x[i])));
+  }
+  std::printf("projection, %zu points: max |dx| %.2e mm, |d distance| %.2e mm, |dn| %.2e, |dK|/|K| %.2e; "
+              "CPU result within %.2e mm of the true surface\n", a.size(), dx, dd, dn, dK, truth);
+  EXPECT_LT(truth, 0.01);
+  EXPECT_LT(dx, 1e-3);
+  EXPECT_LT(dd, 1e-3);
+  EXPECT_LT(dn, 1e-4);
+  EXPECT_LT(dK, 1e-3);
+}
+
+// The local thickness (particle_thickness.comp against local_thickness) across a spherical
+// shell 1.5 mm thick, from both its sheets, searched up to 4 mm: bisection toward f = 0 in
+// float and in double may go either way where f is within float's error of 0 at a
+// sample, after which both narrow onto the same crossing, so they agree to within two of
+// the last brackets (4 mm / 4 / 32 each); and within 0.1 mm of the truth. Particles with
+// no reach (lost) get infinity on both.
+TEST(ParticlesVk, ThicknessMatchesTheReference) {
+  MPUMESH_VULKAN_OR_SKIP(gpu);
+  const PointCloud shell = test::spherical_shell(20, 18.5);
+  const mpu::MpuSurface s = mpu::fit_mpu(shell, {});
+  CpuBackend cpu;
+  std::vector<Eigen::Vector3d> x, n;
+  std::vector<double> reach;
+  for (size_t i = 0; i < shell.size(); i += 11) {
+    x.push_back(shell.positions[i]);
+    n.push_back(mpu::evaluate_fg(s, shell.positions[i]).g.normalized());
+    reach.push_back(x.size() % 50 == 0 ? NAN : 4.0);
+  }
+  const std::vector<double> tc = cpu.thickness(s, x, n, reach), tg = gpu->thickness(s, x, n, reach);
+  test::expect_no_validation_messages(*gpu);
+  ASSERT_EQ(tc.size(), x.size());
+  ASSERT_EQ(tg.size(), x.size());
+  double diff = 0, err = 0;
+  int64_t lost = 0, mismatched = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    if (std::isnan(reach[i])) {
+      ++lost;
+      mismatched += !(std::isinf(tc[i]) && std::isinf(tg[i]));
+      continue;
+    }
+    mismatched += std::isfinite(tc[i]) != std::isfinite(tg[i]);
+    diff = std::max(diff, std::abs(tc[i] - tg[i]));
+    err = std::max(err, std::abs(tc[i] - 1.5));
+  }
+  std::printf("thickness, %zu points (%lld without reach): max |CPU - GPU| %.4f mm, max |CPU - 1.5| %.4f mm\n",
+              x.size(), (long long)lost, diff, err);
+  EXPECT_EQ(mismatched, 0);
+  EXPECT_LE(diff, 2 * 4.0 / 4 / 32);
+  EXPECT_LE(err, 0.1);
+}
+
 TEST(ParticlesVk, WholeRunMatchesTheReference) {
   MPUMESH_VULKAN_OR_SKIP(gpu);
   const Fitted f = fitted_ellipsoid();
@@ -139,6 +219,18 @@ TEST(ParticlesVk, WholeRunMatchesTheReference) {
   EXPECT_NEAR(kb.cv / ka.cv, 1.0, 0.05);
   EXPECT_NEAR(kb.ratio / ka.ratio, 1.0, 0.05);
   EXPECT_NEAR(kb.rank_correlation / ka.rank_correlation, 1.0, 0.05);
+  // The GPU's particles triangulated with f at the Voronoi vertices from the GPU, and from
+  // the CPU: both closed oriented manifolds, nearly the same mesh (a vertex within float's
+  // error of f = 0 may change sides).
+  RestrictedDelaunayStats ra, rb;
+  const TriangleMesh ma = restricted_delaunay(f.surface, b.x, &ra), mb = restricted_delaunay(f.surface, b.x, &rb, 0, gpu.get());
+  test::expect_no_validation_messages(*gpu);
+  const Topology ta = analyze_topology(ma), tb = analyze_topology(mb);
+  std::printf("triangulation of the gpu's particles, f on the cpu: %zu triangles; on the gpu: %zu triangles\n",
+              ma.triangles.size(), mb.triangles.size());
+  EXPECT_TRUE(tb.closed && tb.oriented);
+  EXPECT_EQ(tb.components, ta.components);
+  EXPECT_NEAR(double(mb.triangles.size()) / double(ma.triangles.size()), 1.0, 0.001);
 }
 
 }  // namespace

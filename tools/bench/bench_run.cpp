@@ -141,7 +141,7 @@ int main(int argc, char** argv) {
   const double t_particles = sec_since(t);
   t = Clock::now();
   RestrictedDelaunayStats rst;
-  const TriangleMesh ours = restricted_delaunay(surf, ps.x, &rst);
+  const TriangleMesh ours = restricted_delaunay(surf, ps.x, &rst, 0, choice.backend.get());
   const double t_tri = sec_since(t);
   const double t_ours = sec_since(t_all);
   std::printf("ours: segment %.2f s, points %.2f s (%zu), fit %.2f s (%zu leaves), particles %.2f s (%lld, %d "
