@@ -27,6 +27,17 @@ std::unique_ptr<Buffer> upload(Context& ctx, const std::vector<T>& v) {
   return b;
 }
 
+// points[first, first + n) relative to the surface's origin, in float.
+std::vector<abi::vec4> relative(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points, size_t first,
+                                size_t n) {
+  std::vector<abi::vec4> in(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d p = points[first + i] - s.origin;
+    in[i] = {float(p.x()), float(p.y()), float(p.z()), 0.f};
+  }
+  return in;
+}
+
 }  // namespace
 
 MpuDeviceSurface::MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s) {
@@ -65,11 +76,7 @@ std::vector<mpu::EvalRow> MpuEvalKernel::run(const MpuDeviceSurface& s, const st
   std::vector<mpu::EvalRow> rows(points.size());
   for (size_t first = 0; first < points.size(); first += kChunk) {
     const size_t n = std::min(kChunk, points.size() - first);
-    std::vector<abi::vec4> in(n);
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d p = points[first + i] - s.origin;
-      in[i] = {float(p.x()), float(p.y()), float(p.z()), 0.f};
-    }
+    const std::vector<abi::vec4> in = relative(s, points, first, n);
     Buffer pts(ctx_, n * sizeof(abi::vec4), kStorage), fg(ctx_, n * sizeof(abi::vec4), kStorage),
         curv(ctx_, n * sizeof(abi::vec4), kStorage);
     pts.upload(in.data(), n * sizeof(abi::vec4));
@@ -104,11 +111,7 @@ std::vector<double> MpuEvalKernel::run_f(const MpuDeviceSurface& s, const std::v
   std::vector<double> f(points.size());
   for (size_t first = 0; first < points.size(); first += kChunk) {
     const size_t n = std::min(kChunk, points.size() - first);
-    std::vector<abi::vec4> in(n);
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d p = points[first + i] - s.origin;
-      in[i] = {float(p.x()), float(p.y()), float(p.z()), 0.f};
-    }
+    const std::vector<abi::vec4> in = relative(s, points, first, n);
     // Host-visible input and output: one submission a call (the triangulation makes one a
     // repair round).
     Buffer pts(ctx_, n * sizeof(abi::vec4), kStorage, Buffer::Kind::kStaging),
