@@ -31,10 +31,7 @@ std::unique_ptr<Buffer> upload(Context& ctx, const std::vector<T>& v) {
 std::vector<abi::vec4> relative(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points, size_t first,
                                 size_t n) {
   std::vector<abi::vec4> in(n);
-  for (size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d p = points[first + i] - s.origin;
-    in[i] = {float(p.x()), float(p.y()), float(p.z()), 0.f};
-  }
+  for (size_t i = 0; i < n; ++i) in[i] = s.local(points[first + i]);
   return in;
 }
 

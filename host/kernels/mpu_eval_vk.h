@@ -19,6 +19,11 @@ namespace mpumesh::vk {
 struct MpuDeviceSurface {
   MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s);
   Eigen::Vector3d origin;  // subtracted from every position before it becomes float
+  // A position as the kernels take it: (x - origin, w) in float.
+  abi::vec4 local(const Eigen::Vector3d& x, double w = 0) const {
+    const Eigen::Vector3d r = x - origin;
+    return {float(r.x()), float(r.y()), float(r.z()), float(w)};
+  }
   abi::MpuPush push{};     // the surface's part of the push block (count and row unset)
   std::unique_ptr<Buffer> leaves, offsets, leaf_ids;
 };

@@ -60,11 +60,6 @@ abi::ParticlePush surface_push(const MpuDeviceSurface& s, size_t n) {
   return push;
 }
 
-abi::vec4 rel4(const MpuDeviceSurface& s, const Eigen::Vector3d& x, double w) {
-  const Eigen::Vector3d r = x - s.origin;
-  return {float(r.x()), float(r.y()), float(r.z()), float(w)};
-}
-
 }  // namespace
 
 void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
@@ -73,7 +68,7 @@ void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState
   if (n == 0) return;
   const VkDeviceSize v4 = n * sizeof(abi::vec4);
   std::vector<abi::vec4> in(n);
-  for (size_t i = 0; i < n; ++i) in[i] = rel4(s, st.x[i], st.sigma[i]);
+  for (size_t i = 0; i < n; ++i) in[i] = s.local(st.x[i], st.sigma[i]);
   // Host-visible input and outputs: one submission.
   constexpr auto host = Buffer::Kind::kStaging;
   Buffer b_in(ctx_, v4, kStorage, host), b_pos(ctx_, v4, kStorage, host), b_nrm(ctx_, v4, kStorage, host),
@@ -113,7 +108,7 @@ std::vector<double> ParticleKernel::thickness(const MpuDeviceSurface& s, const s
   for (size_t i = 0; i < count; ++i) {
     // A reach that is not positive and finite (a lost particle) is sent as 0: none.
     const double reach = max_dist[i] > 0 && std::isfinite(max_dist[i]) ? max_dist[i] : 0.0;
-    in[i] = rel4(s, x[i], reach);
+    in[i] = s.local(x[i], reach);
     dir[i] = {float(n[i].x()), float(n[i].y()), float(n[i].z()), 0.f};
   }
   constexpr auto host = Buffer::Kind::kStaging;  // one submission (see project)
