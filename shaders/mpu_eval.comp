@@ -1,5 +1,6 @@
 // MPU evaluation: f, ∇f and curvature (κ1, κ2, K, mean) at each query point, one
-// invocation per point; f and ∇f alone when pc.value_only is set (a uniform branch). CPU reference: core/mpu/mpu_eval_ref.cpp (evaluate, curvature).
+// invocation per point; f and ∇f alone when pc.value_only is set (a uniform branch).
+// CPU reference: core/mpu/mpu_eval_ref.cpp (evaluate, curvature).
 #version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shared/mpu_abi.h"

@@ -75,8 +75,7 @@ seg::ChanVeseResult ChanVeseKernel::run(const seg::ChanVeseStack& s, const seg::
       rec.barrier();
       std::swap(cur, next);
     }
-    rec.submit_and_wait();
-    for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+    rec.submit_and_wait(kernel_ms);
   }
   r.phi.resize(n);
   cur->download(r.phi.data(), n * 4);

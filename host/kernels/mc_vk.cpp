@@ -63,8 +63,7 @@ mc::McMesh McKernel::run(const mc::McField& field, std::map<std::string, double>
     rec.barrier();
     scan_.record(rec, voff, uint32_t(n), scratch);
     scan_.record(rec, toff, uint32_t(n), scratch);
-    rec.submit_and_wait();
-    for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+    rec.submit_and_wait(kernel_ms);
   }
   scratch.clear();
   // The last grid point owns no edge and no cube, so its exclusive offsets are the totals.
@@ -75,8 +74,7 @@ mc::McMesh McKernel::run(const mc::McField& field, std::map<std::string, double>
     Recorder rec(ctx_);
     const Buffer* bufs[] = {&f, &info, &voff, &toff, &verts, &tris, table_.get()};
     rec.dispatch(generate_, bufs, &push, grid, "mc_generate");
-    rec.submit_and_wait();
-    for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+    rec.submit_and_wait(kernel_ms);
   }
   mc::McMesh mesh;
   const auto v = verts.read<abi::vec4>(nv);

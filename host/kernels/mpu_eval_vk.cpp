@@ -84,8 +84,7 @@ std::vector<mpu::EvalRow> MpuEvalKernel::run(const MpuDeviceSurface& s, const st
     Recorder rec(ctx_);
     const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &pts, &fg, &curv};
     rec.dispatch(eval_, bufs, &push, grid, "mpu_eval");
-    rec.submit_and_wait();
-    for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+    rec.submit_and_wait(kernel_ms);
     const auto a = fg.read<abi::vec4>(n), c = curv.read<abi::vec4>(n);
     for (size_t i = 0; i < n; ++i) {
       mpu::EvalRow& r = rows[first + i];
@@ -122,8 +121,7 @@ std::vector<double> MpuEvalKernel::run_f(const MpuDeviceSurface& s, const std::v
     Recorder rec(ctx_);
     const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &pts, &fg, &unused};
     rec.dispatch(eval_, bufs, &push, grid, "mpu_eval_f");
-    rec.submit_and_wait();
-    for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+    rec.submit_and_wait(kernel_ms);
     const auto a = fg.read<abi::vec4>(n);
     for (size_t i = 0; i < n; ++i) f[first + i] = a[i].x;
   }

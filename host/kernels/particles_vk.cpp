@@ -82,8 +82,7 @@ void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState
   Recorder rec(ctx_);
   const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &b_pos, &b_in, &b_nrm, &b_curv};
   rec.dispatch(project_, bufs, &push, grid, "particle_project");
-  rec.submit_and_wait();
-  for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+  rec.submit_and_wait(kernel_ms);
   const auto pos = b_pos.read<abi::vec4>(n), nrm = b_nrm.read<abi::vec4>(n), curv = b_curv.read<abi::vec4>(n);
   st.normal.resize(n);
   st.distance.resize(n);
@@ -121,8 +120,7 @@ std::vector<double> ParticleKernel::thickness(const MpuDeviceSurface& s, const s
   Recorder rec(ctx_);
   const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &b_pos, &b_nrm, &b_out};
   rec.dispatch(thickness_, bufs, &push, grid, "particle_thickness");
-  rec.submit_and_wait();
-  for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+  rec.submit_and_wait(kernel_ms);
   const auto out = b_out.read<abi::vec4>(count);
   for (size_t i = 0; i < count; ++i) t[i] = out[i].x;  // +inf stays +inf
   return t;
@@ -214,8 +212,7 @@ void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st
   rec.copy(b_nrm, down, v4, 0, v4);
   rec.copy(b_curv, down, v4, 0, 2 * v4);
   rec.copy(b_stats, down, v4, 0, 3 * v4);
-  rec.submit_and_wait();
-  for (auto& [k, ms] : rec.kernel_ms()) kernel_ms[k] += ms;
+  rec.submit_and_wait(kernel_ms);
   const auto* back = static_cast<const abi::vec4*>(down.mapped());
   std::copy(back, back + n, pos.begin());
   std::copy(back + n, back + 2 * n, nrm.begin());

@@ -120,4 +120,9 @@ void Recorder::submit_and_wait() {
   }
 }
 
+void Recorder::submit_and_wait(std::map<std::string, double>& kernel_ms) {
+  submit_and_wait();
+  for (const auto& [label, ms] : kernel_ms_) kernel_ms[label] += ms;
+}
+
 }  // namespace mpumesh::vk

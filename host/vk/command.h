@@ -43,8 +43,8 @@ class Recorder {
   void copy(const Buffer& src, Buffer& dst, VkDeviceSize bytes, VkDeviceSize src_offset = 0,
             VkDeviceSize dst_offset = 0);
   void submit_and_wait();
-
-  const std::map<std::string, double>& kernel_ms() const { return kernel_ms_; }
+  // The same, then each kernel's device time (ms, by label) added to `kernel_ms`.
+  void submit_and_wait(std::map<std::string, double>& kernel_ms);
 
  private:
   Context& ctx_;
