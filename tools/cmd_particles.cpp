@@ -48,6 +48,9 @@ void add_sample_options(CLI::App* cmd, particles::SampleOptions& o, const std::s
   cmd->add_option("--thickness-factor", o.thickness_factor,
                   "spacing at most this times the local thickness of plates and gaps")
       ->capture_default_str();
+  cmd->add_option("--spacing-grade", o.spacing_grade,
+                  "largest change of the target spacing per mm along the surface (0: ungraded)")
+      ->capture_default_str();
   cmd->add_option(iterations_flag, o.iterations, "particle iteration cap")->capture_default_str();
   cmd->add_option("--seed", o.seed, "seed of the random choices (splits, deaths, seeding order)")->capture_default_str();
 }
@@ -75,6 +78,7 @@ nlohmann::json sample_json(const particles::SampleOptions& o, const particles::S
           {"area_mm2", st.area},
           {"thickness_bound", st.thickness_bound},
           {"curvature_scale", o.curvature_scale},
+          {"spacing_grade", o.spacing_grade},
           {"sqrt_abs_K_clamp", {st.kappa_lo, st.kappa_hi}},
           {"spacing",
            {{"mean_mm", sp.mean},

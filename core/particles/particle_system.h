@@ -48,6 +48,9 @@ struct SampleOptions {
   int population_every = 5;
   double split_ratio = 1.25;
   double death_ratio = 0.7;
+  // Largest rate of change of the target spacing along the surface (spacing_gradation.h);
+  // 0: ungraded.
+  double spacing_grade = 0.3;
   uint32_t seed = 1;
   int64_t max_particles = 0;    // cap on the population; 0 = 8 x the seeded count + 10,000
   StepParams step;

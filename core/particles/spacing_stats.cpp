@@ -34,14 +34,16 @@ double median_of(std::vector<double> v) {
 
 }  // namespace
 
-std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x) {
-  std::vector<double> out(x.size(), 0.0);
+std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x, size_t stride) {
+  MPUMESH_ASSERT(stride >= 1, "local_spacing: stride must be at least 1");
+  std::vector<double> out((x.size() + stride - 1) / stride, 0.0);
   if (x.size() < 7) return out;
   PointsAdaptor adaptor{&x};
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, x.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const size_t i = k * stride;
       uint32_t idx[7];
       double d2[7];
       nanoflann::KNNResultSet<double, uint32_t> rs(7);
@@ -49,7 +51,7 @@ std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x) {
       tree.findNeighbors(rs, x[i].data(), nanoflann::SearchParams());
       double s = 0;
       for (int k = 1; k < 7; ++k) s += std::sqrt(d2[k]);
-      out[i] = s / 6;
+      out[k] = s / 6;
     }
   });
   return out;

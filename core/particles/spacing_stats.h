@@ -8,7 +8,8 @@
 
 namespace mpumesh::particles {
 
-std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x);
+// Of every stride-th point (0, stride, 2 stride, ...), among all of x.
+std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x, size_t stride = 1);
 
 struct SpacingStats {
   double mean = 0, cv = 0;       // of the local spacing
