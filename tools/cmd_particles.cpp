@@ -103,6 +103,7 @@ nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
           {"repair_points", st.repair_points},
           {"repair_rounds", st.repair_rounds},
           {"unused_particles", st.unused_points},
+          {"sheet_points", st.sheet_points},
           {"components_flipped", st.flipped_components},
           {"edge_flips", st.edge_flips},
           {"edge_collapses", st.edge_collapses},

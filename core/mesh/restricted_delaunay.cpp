@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <optional>
 #include <queue>
 #include <unordered_map>
 
@@ -254,6 +255,117 @@ std::vector<std::vector<uint32_t>> non_manifold_groups(const std::vector<RFacet>
   return groups;
 }
 
+// Where a thin plate passes through a particle's Voronoi cell with both of its sides, every
+// Voronoi edge there crosses f = 0 twice or not at all, and the particle gets no restricted
+// facet: the plate drops out of the mesh (on the sample CT, a bone fragment of 272
+// marching-cubes triangles by the zygomatic arch, at some particle counts). The other side
+// of the plate, found along ∓∇f from the particle within `reach` (8 even steps, then 30
+// bisections), is the point the sample lacks there; nullopt when no other sheet is that
+// near within the data's box.
+std::optional<Eigen::Vector3d> opposite_sheet(const mpu::MpuSurface& s, const Eigen::Vector3d& p, double reach) {
+  const Eigen::Vector3d g = mpu::evaluate_fg(s, p).g;
+  if (!(g.norm() > 0) || !(reach > 0)) return std::nullopt;
+  const Eigen::Vector3d n = g.normalized();
+  std::optional<Eigen::Vector3d> best;
+  double best_t = INFINITY;
+  constexpr int kSteps = 8;
+  for (const double dir : {-1.0, 1.0}) {
+    // Inward (dir < 0) f is negative until the other sheet; outward positive until the next.
+    // The data's box is no sheet: the search stops at it (f_within_data's jump there would
+    // put points on the box, beside the skull where the volume cuts it).
+    auto crossed = [&](double t) { return dir * mpu::evaluate_f(s, p + dir * t * n) < 0; };
+    for (int k = 1; k <= kSteps; ++k) {
+      const double t = reach * k / kSteps;
+      if (t >= best_t || !within_data(s, p + dir * t * n)) break;
+      if (!crossed(t)) continue;
+      double a = reach * (k - 1) / kSteps, b = t;
+      for (int it = 0; it < 30; ++it) {
+        const double m = 0.5 * (a + b);
+        (crossed(m) ? b : a) = m;
+      }
+      best_t = 0.5 * (a + b);
+      best = p + dir * best_t * n;
+      break;
+    }
+  }
+  return best;
+}
+
+// The points that lost sheets need (opposite_sheet), from the restricted facets of the
+// triangulation so far: for each particle on no facet that lies farther than half its
+// nearest neighbour's distance (its reach) from the facets around its Delaunay neighbours
+// (beside the mesh, not one more sample of it), the other side of its plate within that
+// reach; in particle order, each only where neither a Delaunay neighbour of its particle
+// nor a point taken before lies within half the reach (the sheet points of neighbouring
+// lost particles land close together, and two of them 0.25 mm apart made a needle of 10°
+// on the sample CT that the cleanup could not mend). None within a reach of the data's
+// box, where the volume cuts the anatomy: the surface there folds round the cut face, no
+// plate, and its sheet points made the sample CT's smallest angles (10-14°, at y = -0.4 mm).
+std::vector<Eigen::Vector3d> lost_sheet_points(const mpu::MpuSurface& s, const Dt& dt, const std::vector<RFacet>& facets,
+                                               const std::vector<Eigen::Vector3d>& points,
+                                               const std::vector<Eigen::Vector3d>& repair) {
+  std::vector<uint32_t> first(points.size() + repair.size() + 1, 0), star;  // vertex -> facets
+  for (const RFacet& f : facets)
+    for (uint32_t v : f.v) ++first[v + 1];
+  for (size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
+  star.resize(first.back());
+  {
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (uint32_t f = 0; f < facets.size(); ++f)
+      for (uint32_t v : facets[f].v) star[fill[v]++] = f;
+  }
+  auto point = [&](uint32_t id) {
+    const Eigen::Vector3d& x = id < points.size() ? points[id] : repair[id - points.size()];
+    return Point(x.x(), x.y(), x.z());
+  };
+  struct Lost {
+    uint32_t id;
+    Eigen::Vector3d x;
+    double reach;
+    std::vector<Eigen::Vector3d> neighbours;
+  };
+  std::vector<Lost> lost;
+  for (auto v = dt.finite_vertices_begin(); v != dt.finite_vertices_end(); ++v) {
+    if (v->info() >= points.size() || first[v->info()] != first[v->info() + 1]) continue;
+    std::vector<Dt::Vertex_handle> adjacent;
+    dt.finite_adjacent_vertices(v, std::back_inserter(adjacent));
+    double nearest = INFINITY, to_mesh = INFINITY;
+    for (const auto& w : adjacent) {
+      nearest = std::min(nearest, (vec(w->point()) - vec(v->point())).norm());
+      for (uint32_t k = first[w->info()]; k < first[w->info() + 1]; ++k) {
+        const auto& t = facets[star[k]].v;
+        to_mesh = std::min(to_mesh, CGAL::squared_distance(v->point(), K::Triangle_3(point(t[0]), point(t[1]), point(t[2]))));
+      }
+    }
+    to_mesh = std::sqrt(to_mesh);
+    const Eigen::Vector3d x = vec(v->point());
+    const double border = std::min((x - s.data_min).minCoeff(), (s.data_max - x).minCoeff());
+    if (!(to_mesh > 0.5 * nearest) || border < nearest) continue;
+    Lost l{v->info(), x, nearest, {}};
+    for (const auto& w : adjacent) l.neighbours.push_back(vec(w->point()));
+    lost.push_back(std::move(l));
+  }
+  // In particle order (the vertices' order in memory depends on the parallel insertion).
+  std::sort(lost.begin(), lost.end(), [](const Lost& a, const Lost& b) { return a.id < b.id; });
+  std::vector<std::optional<Eigen::Vector3d>> other(lost.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, lost.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) other[k] = opposite_sheet(s, lost[k].x, lost[k].reach);
+  });
+  std::vector<Eigen::Vector3d> out;
+  for (size_t k = 0; k < lost.size(); ++k) {
+    if (!other[k]) continue;
+    const double gap2 = 0.25 * lost[k].reach * lost[k].reach;
+    auto close = [&](const Eigen::Vector3d& q) { return (q - *other[k]).squaredNorm() < gap2; };
+    const Dt::Vertex_handle nv = dt.nearest_vertex(Point(other[k]->x(), other[k]->y(), other[k]->z()));
+    if ((nv->info() != lost[k].id && close(vec(nv->point()))) ||
+        std::any_of(lost[k].neighbours.begin(), lost[k].neighbours.end(), close) ||
+        std::any_of(out.begin(), out.end(), close))
+      continue;
+    out.push_back(*other[k]);
+  }
+  return out;
+}
+
 }  // namespace
 
 int64_t orient_components(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& outward) {
@@ -365,66 +477,12 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   std::vector<RFacet> facets;
   std::vector<char> touched(points.size());
   std::vector<Dt::Vertex_handle> inserted;  // the last round's repair points
-  for (int round = 0;; ++round) {
-    touched.assign(points.size() + repair.size(), 0);
-    stats.seconds_repair += timer.lap();
-    evaluate_new_cells(s, dt, touched, backend, round == 0 ? nullptr : &inserted);
-    stats.seconds_evaluate += timer.lap();
-    facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
-    const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
-    if (groups.empty()) break;
-    if (repair.size() >= max_repair || round >= 100)
-      throw NumericalError("triangulate: " + std::to_string(groups.size()) +
-                           " non-manifold edges or vertices remain after " + std::to_string(repair.size()) +
-                           " repair points in " + std::to_string(round) +
-                           " rounds: the particles are too sparse for this surface (ask for more)");
-    stats.repair_rounds = round + 1;
-    // The largest facet of each group, each crossing computed once and each facet once.
-    // The crossings (bisection on f) are found in parallel.
-    std::vector<uint32_t> need;
-    for (const auto& g : groups) need.insert(need.end(), g.begin(), g.end());
-    std::sort(need.begin(), need.end());
-    need.erase(std::unique(need.begin(), need.end()), need.end());
-    std::vector<std::pair<Eigen::Vector3d, double>> found(need.size());
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, need.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t k = r.begin(); k != r.end(); ++k) {
-        const RFacet& rf = facets[need[k]];
-        const Eigen::Vector3d x = crossing(s, dt, rf.cell, rf.i);
-        // The ball's radius: the distance to the facet's vertex of smallest id.
-        const Dt::Vertex_handle first = std::min(
-            {rf.cell->vertex((rf.i + 1) & 3), rf.cell->vertex((rf.i + 2) & 3), rf.cell->vertex((rf.i + 3) & 3)}, by_id);
-        found[k] = {x, (x - vec(first->point())).norm()};
-      }
-    });
-    std::unordered_map<uint32_t, std::pair<Eigen::Vector3d, double>> ball;  // facet -> (crossing, radius)
-    for (size_t k = 0; k < need.size(); ++k) ball.emplace(need[k], found[k]);
-    // Equal radii (cospherical points give several facets one Voronoi vertex) go to the
-    // facet with the smallest vertex ids, not to the first in memory: the parallel
-    // insertion puts cells in a different order each run.
-    auto sorted_ids = [&](uint32_t f) {
-      std::array<uint32_t, 3> v = facets[f].v;
-      std::sort(v.begin(), v.end());
-      return v;
-    };
-    std::vector<uint32_t> chosen;
-    for (const auto& g : groups) {
-      uint32_t best = g[0];
-      double best_r = -1;
-      for (uint32_t f : g) {
-        const double r = ball.at(f).second;
-        if (r > best_r || (r == best_r && sorted_ids(f) < sorted_ids(best))) best_r = r, best = f;
-      }
-      chosen.push_back(best);
-    }
-    std::sort(chosen.begin(), chosen.end());
-    chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
-    std::vector<Eigen::Vector3d> add;
-    for (uint32_t f : chosen) add.push_back(ball.at(f).first);
+  // Inserts points as repair points (in an order that does not depend on where the cells
+  // lie in memory); the new vertices go to `inserted`.
+  auto insert_repair = [&](std::vector<Eigen::Vector3d> add, Cell hint) {
     std::sort(add.begin(), add.end(), [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
       return std::lexicographical_compare(a.data(), a.data() + 3, b.data(), b.data() + 3);
-    });  // an order that does not depend on where the cells lie in memory
-    Cell hint = facets[chosen[0]].cell;
-    const size_t before = repair.size();
+    });
     inserted.clear();
     for (const Eigen::Vector3d& x : add) {
       const size_t n0 = dt.number_of_vertices();
@@ -436,13 +494,83 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
       }
       hint = v->cell();
     }
-    if (repair.size() == before)
-      throw NumericalError("triangulate: the manifold repair made no progress (" + std::to_string(groups.size()) +
-                           " non-manifold edges or vertices)");
+  };
+  int round = 0;
+  for (int pass = 0;; ++pass) {  // the manifold repair, then lost sheets (below)
+    for (;; ++round) {
+      touched.assign(points.size() + repair.size(), 0);
+      stats.seconds_repair += timer.lap();
+      evaluate_new_cells(s, dt, touched, backend, round == 0 ? nullptr : &inserted);
+      stats.seconds_evaluate += timer.lap();
+      facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
+      const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
+      if (groups.empty()) break;
+      if (repair.size() >= max_repair || round >= 100)
+        throw NumericalError("triangulate: " + std::to_string(groups.size()) +
+                             " non-manifold edges or vertices remain after " + std::to_string(repair.size()) +
+                             " repair points in " + std::to_string(round) +
+                             " rounds: the particles are too sparse for this surface (ask for more)");
+      stats.repair_rounds = round + 1;
+      // The largest facet of each group, each crossing computed once and each facet once.
+      // The crossings (bisection on f) are found in parallel.
+      std::vector<uint32_t> need;
+      for (const auto& g : groups) need.insert(need.end(), g.begin(), g.end());
+      std::sort(need.begin(), need.end());
+      need.erase(std::unique(need.begin(), need.end()), need.end());
+      std::vector<std::pair<Eigen::Vector3d, double>> found(need.size());
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, need.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t k = r.begin(); k != r.end(); ++k) {
+          const RFacet& rf = facets[need[k]];
+          const Eigen::Vector3d x = crossing(s, dt, rf.cell, rf.i);
+          // The ball's radius: the distance to the facet's vertex of smallest id.
+          const Dt::Vertex_handle first = std::min(
+              {rf.cell->vertex((rf.i + 1) & 3), rf.cell->vertex((rf.i + 2) & 3), rf.cell->vertex((rf.i + 3) & 3)}, by_id);
+          found[k] = {x, (x - vec(first->point())).norm()};
+        }
+      });
+      std::unordered_map<uint32_t, std::pair<Eigen::Vector3d, double>> ball;  // facet -> (crossing, radius)
+      for (size_t k = 0; k < need.size(); ++k) ball.emplace(need[k], found[k]);
+      // Equal radii (cospherical points give several facets one Voronoi vertex) go to the
+      // facet with the smallest vertex ids, not to the first in memory: the parallel
+      // insertion puts cells in a different order each run.
+      auto sorted_ids = [&](uint32_t f) {
+        std::array<uint32_t, 3> v = facets[f].v;
+        std::sort(v.begin(), v.end());
+        return v;
+      };
+      std::vector<uint32_t> chosen;
+      for (const auto& g : groups) {
+        uint32_t best = g[0];
+        double best_r = -1;
+        for (uint32_t f : g) {
+          const double r = ball.at(f).second;
+          if (r > best_r || (r == best_r && sorted_ids(f) < sorted_ids(best))) best_r = r, best = f;
+        }
+        chosen.push_back(best);
+      }
+      std::sort(chosen.begin(), chosen.end());
+      chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+      std::vector<Eigen::Vector3d> add;
+      for (uint32_t f : chosen) add.push_back(ball.at(f).first);
+      const size_t before = repair.size();
+      insert_repair(add, facets[chosen[0]].cell);
+      if (repair.size() == before)
+        throw NumericalError("triangulate: the manifold repair made no progress (" + std::to_string(groups.size()) +
+                             " non-manifold edges or vertices)");
+    }
+    // Lost sheets (lost_sheet_points), twice at most, each time followed by the manifold
+    // repair around the new points.
+    facets = restricted_facets(dt);
+    if (pass == 2) break;
+    const size_t before = repair.size();
+    const std::vector<Eigen::Vector3d> sheet = lost_sheet_points(s, dt, facets, points, repair);
+    if (!sheet.empty()) insert_repair(sheet, dt.infinite_cell());
+    stats.sheet_points += int64_t(repair.size() - before);
+    if (repair.size() == before) break;
+    ++round;
   }
 
   stats.seconds_repair += timer.lap();
-  facets = restricted_facets(dt);
   // Triangles in a canonical order (each rotated to start at its smallest id, then sorted),
   // not in the order the cells lie in memory, which depends on the insertion history.
   for (RFacet& f : facets) std::rotate(f.v.begin(), std::min_element(f.v.begin(), f.v.end()), f.v.end());

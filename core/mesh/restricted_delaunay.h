@@ -5,7 +5,10 @@
 // manifold (an edge with more than two such facets, a vertex with more than one fan), a
 // point is added where the Voronoi edge of the largest facet there crosses f = 0
 // (bisection), as CGAL's surface mesher does with its Manifold_tag, and the cells it
-// changes are looked at again, round by round. The triangles are oriented consistently
+// changes are looked at again, round by round. Where a particle ends on no facet because
+// a plate thinner than the sampling lies whole in its Voronoi cell, a point on the plate's
+// other side is added and the manifold repair runs again (lost sheets, twice at most).
+// The triangles are oriented consistently
 // through their shared edges, each component outward by ∇f; then edge collapses and flips
 // remove most thin triangles (mesh/thin_triangles.h).
 #pragma once
@@ -26,6 +29,8 @@ struct RestrictedDelaunayStats {
   int64_t repair_points = 0;   // points added for a manifold (and used by the mesh)
   int64_t repair_rounds = 0;   // rounds of the manifold repair
   int64_t unused_points = 0;   // given points on no restricted facet (dropped)
+  int64_t sheet_points = 0;    // repair points put on the far side of a thin plate that a
+                               // particle's Voronoi cell held whole (lost sheets)
   int64_t flipped_components = 0;
   int64_t edge_flips = 0, edge_collapses = 0;  // thin triangles removed (mesh/thin_triangles.h)
   int64_t vertices_relaxed = 0;                 // moved to mend the thin triangles left

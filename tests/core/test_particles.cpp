@@ -186,6 +186,52 @@ TEST(SpacingGradation, BoundsTheRateOfChange) {
   EXPECT_EQ(g[39 * 40], 4.0);  // x = 19.5: 0.5 + 0.3 * 15 = 5 > 4, not bound
 }
 
+// A plate that a particle's Voronoi cell holds whole: a spherical shell 0.6 mm thick
+// (outer r 20, inner 19.4) with particles on its outer sheet only, 2 mm apart. Every
+// Voronoi edge there crosses the wall twice or not at all, so no facet is restricted and
+// the whole shell would drop out of the mesh; the lost-sheet repair puts points on the
+// inner sheet, and the mesh is both spheres, closed. (Two small balls fitted with the
+// shell, at (±36, ±36, ±36), keep the data's box away from it: the repair leaves alone
+// what lies within a reach of the box, where a CT volume cuts the anatomy.)
+TEST(RestrictedDelaunay, RecoversASheetThatVoronoiCellsHoldWhole) {
+  PointCloud cloud = test::spherical_shell(20, 19.4);
+  for (const double c : {-36.0, 36.0})
+    for (int k = 0; k < 400; ++k) {
+      const double z = 1 - (2 * k + 1.0) / 400, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+      const Eigen::Vector3d n(r * std::cos(phi), r * std::sin(phi), z);
+      cloud.positions.push_back(Eigen::Vector3d::Constant(c) + 3.0 * n);
+      cloud.normals.push_back(n);
+    }
+  const mpu::MpuSurface s = mpu::fit_mpu(cloud, {});
+  std::vector<Eigen::Vector3d> outer;
+  const int n = 1200;  // about 2 mm apart on r = 20
+  for (int k = 0; k < n; ++k) {
+    const double z = 1 - (2 * k + 1.0) / n, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+    outer.push_back(20.0 * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
+  }
+  RestrictedDelaunayStats rs;
+  const TriangleMesh m = restricted_delaunay(s, outer, &rs);
+  const Topology topo = analyze_topology(m);
+  double dmax = 0;
+  int64_t inner = 0;
+  for (const auto& v : m.vertices) {
+    dmax = std::max(dmax, std::min(std::abs(v.norm() - 20), std::abs(v.norm() - 19.4)));
+    inner += v.norm() < 19.7;
+  }
+  std::printf("outer sheet only: %lld sheet points, %lld repair points, %lld unused, %zu triangles, %lld vertices "
+              "inside, components %lld, closed %d, vertices within %.4f mm\n",
+              (long long)rs.sheet_points, (long long)rs.repair_points, (long long)rs.unused_points,
+              m.triangles.size(), (long long)inner, (long long)topo.components, int(topo.closed), dmax);
+  EXPECT_GT(rs.sheet_points, 0);
+  EXPECT_GT(inner, n / 4);
+  EXPECT_LT(rs.unused_points, n / 20);
+  EXPECT_TRUE(topo.closed);
+  EXPECT_TRUE(topo.manifold);
+  EXPECT_TRUE(topo.oriented);
+  EXPECT_EQ(topo.components, 2);
+  EXPECT_LT(dmax, 0.15);  // the fit of a 0.6 mm wall lies within 0.1 mm of the spheres
+}
+
 // A thin plate: a spherical shell 1.5 mm thick (outer r 20, inner 18.5), asked for a 4 mm
 // spacing. The thickness bound spaces most particles at 1.5 mm, so the restricted
 // Delaunay mesh is the two spheres, each closed, no triangle bridges the wall and no
