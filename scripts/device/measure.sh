@@ -23,15 +23,15 @@ fi
 if [[ $step == all || $step == run ]]; then
   timer=""; [ -x /usr/bin/time ] && timer="/usr/bin/time -v"
   for be in gpu cpu; do
-    $timer $B/bin/mpumesh run $ct --threshold 226 --particles 45000 --backend $be \
+    $timer $B/bin/mpumesh run $ct --threshold 226 --particles 40000 --backend $be \
       -o /tmp/ct_$be.ply --report "$OUT/run_$be.json" 2>"$OUT/run_$be.time" | tail -3
     grep -E 'Elapsed|Maximum resident' "$OUT/run_$be.time"
   done
-  $B/bin/mpumesh_bench_run $ct 226 45000 2.6 0.36 2>&1 | tee "$OUT/bench_run.txt"
+  $B/bin/mpumesh_bench_run $ct 226 40000 2.6 0.36 2>&1 | tee "$OUT/bench_run.txt"
 fi
 if [[ $step == all || $step == render ]]; then
   # The HTML report made on the GPU, and the renderer's time on both backends.
-  $B/bin/mpumesh run $ct --threshold 226 --particles 45000 --backend gpu -o /tmp/ct_r.ply \
+  $B/bin/mpumesh run $ct --threshold 226 --particles 40000 --backend gpu -o /tmp/ct_r.ply \
     --html "$OUT/report_gpu.html" --report "$OUT/run_html.json" --no-self-intersections --quiet
   $B/bin/mpumesh mc $ct --threshold 226 -o /tmp/mc.ply --quiet
   for be in gpu cpu; do
