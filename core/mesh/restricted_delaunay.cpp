@@ -291,6 +291,25 @@ std::optional<Eigen::Vector3d> opposite_sheet(const mpu::MpuSurface& s, const Ei
   return best;
 }
 
+// The faces of each vertex, in face order, as compressed rows: the faces of vertex v are
+// faces[first[v]] .. faces[first[v + 1] - 1]. verts_of(f) gives face f's three vertices.
+struct VertexFaces {
+  std::vector<uint32_t> first, faces;
+};
+template <class VertsOf>
+VertexFaces vertex_faces(size_t vertices, size_t faces, VertsOf verts_of) {
+  VertexFaces r;
+  r.first.assign(vertices + 1, 0);
+  r.faces.resize(3 * faces);
+  for (size_t f = 0; f < faces; ++f)
+    for (uint32_t v : verts_of(f)) ++r.first[v + 1];
+  for (size_t v = 0; v < vertices; ++v) r.first[v + 1] += r.first[v];
+  std::vector<uint32_t> fill(r.first.begin(), r.first.end() - 1);
+  for (size_t f = 0; f < faces; ++f)
+    for (uint32_t v : verts_of(f)) r.faces[fill[v]++] = uint32_t(f);
+  return r;
+}
+
 // The points that lost sheets need (opposite_sheet), from the restricted facets of the
 // triangulation so far: for each particle on no facet that lies farther than half its
 // nearest neighbour's distance (its reach) from the facets around its Delaunay neighbours
@@ -304,16 +323,9 @@ std::optional<Eigen::Vector3d> opposite_sheet(const mpu::MpuSurface& s, const Ei
 std::vector<Eigen::Vector3d> lost_sheet_points(const mpu::MpuSurface& s, const Dt& dt, const std::vector<RFacet>& facets,
                                                const std::vector<Eigen::Vector3d>& points,
                                                const std::vector<Eigen::Vector3d>& repair) {
-  std::vector<uint32_t> first(points.size() + repair.size() + 1, 0), star;  // vertex -> facets
-  for (const RFacet& f : facets)
-    for (uint32_t v : f.v) ++first[v + 1];
-  for (size_t v = 0; v + 1 < first.size(); ++v) first[v + 1] += first[v];
-  star.resize(first.back());
-  {
-    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-    for (uint32_t f = 0; f < facets.size(); ++f)
-      for (uint32_t v : facets[f].v) star[fill[v]++] = f;
-  }
+  const VertexFaces vf = vertex_faces(points.size() + repair.size(), facets.size(),
+                                      [&](size_t f) -> const std::array<uint32_t, 3>& { return facets[f].v; });
+  const std::vector<uint32_t>& first = vf.first;
   auto point = [&](uint32_t id) {
     const Eigen::Vector3d& x = id < points.size() ? points[id] : repair[id - points.size()];
     return Point(x.x(), x.y(), x.z());
@@ -333,7 +345,7 @@ std::vector<Eigen::Vector3d> lost_sheet_points(const mpu::MpuSurface& s, const D
     for (const auto& w : adjacent) {
       nearest = std::min(nearest, (vec(w->point()) - vec(v->point())).norm());
       for (uint32_t k = first[w->info()]; k < first[w->info() + 1]; ++k) {
-        const auto& t = facets[star[k]].v;
+        const auto& t = facets[vf.faces[k]].v;
         to_mesh = std::min(to_mesh, CGAL::squared_distance(v->point(), K::Triangle_3(point(t[0]), point(t[1]), point(t[2]))));
       }
     }
@@ -370,17 +382,12 @@ std::vector<Eigen::Vector3d> lost_sheet_points(const mpu::MpuSurface& s, const D
 
 int64_t orient_components(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& outward) {
   auto& tris = mesh.triangles;
-  // The faces of each vertex, in face order (compressed rows; an edge map of vectors took
-  // 0.1 s on the sample CT). The faces of edge ab are those of a that hold b.
-  std::vector<uint32_t> first(mesh.vertices.size() + 1, 0), vf(3 * tris.size());
-  for (const auto& t : tris)
-    for (uint32_t v : t) ++first[v + 1];
-  for (size_t v = 0; v < mesh.vertices.size(); ++v) first[v + 1] += first[v];
-  {
-    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-    for (uint32_t f = 0; f < tris.size(); ++f)
-      for (uint32_t v : tris[f]) vf[fill[v]++] = f;
-  }
+  // The faces of each vertex (compressed rows; an edge map of vectors took 0.1 s on the
+  // sample CT). The faces of edge ab are those of a that hold b.
+  const VertexFaces star =
+      vertex_faces(mesh.vertices.size(), tris.size(), [&](size_t f) -> const std::array<uint32_t, 3>& { return tris[f]; });
+  const std::vector<uint32_t>& first = star.first;
+  const std::vector<uint32_t>& vf = star.faces;
   auto holds = [&](uint32_t g, uint32_t v) { return tris[g][0] == v || tris[g][1] == v || tris[g][2] == v; };
   // Does triangle t traverse the edge a -> b?
   auto forward = [&](uint32_t t, uint32_t a, uint32_t b) {
