@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 
 #include "common/error.h"
 #include "common/kd_tree.h"
@@ -89,6 +88,24 @@ void order_spatially(ParticleState& st, std::vector<double>& thickness) {
   permute(st.energy);
   permute(st.speed);
   permute(thickness);
+}
+
+// Keeps the particles `rows` (ascending) in that order, all their per-particle values.
+void keep_rows(ParticleState& st, const std::vector<size_t>& rows) {
+  size_t m = 0;
+  for (size_t k : rows) {
+    MPUMESH_ASSERT(k >= m && k < st.size(), "keep_rows: rows must ascend");
+    st.x[m] = st.x[k];
+    st.sigma[m] = st.sigma[k];
+    st.target[m] = st.target[k];
+    st.normal[m] = st.normal[k];
+    st.distance[m] = st.distance[k];
+    st.curv[m] = st.curv[k];
+    st.energy[m] = st.energy[k];
+    st.speed[m] = st.speed[k];
+    ++m;
+  }
+  st.resize(m);
 }
 
 // A random but repeatable visiting order of n points for poisson_disk: by a hash of the
@@ -345,6 +362,11 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   const double gap = candidates.size() > 13 ? median_spacing(candidates, tree, 12) : extent / 50;
   double r_pool = std::max(gap, extent / 400);
   if (opt.spacing > 0) r_pool = std::min(r_pool, std::max(opt.spacing * kDiskPerSpacing, extent / 400));
+  // A point pulled onto f = 0 counts when it got there (within 1e-3 r_pool) near where it
+  // started (within 2 r_pool).
+  auto reached_surface = [&](const ParticleState& p, size_t k, const Eigen::Vector3d& start) {
+    return std::abs(p.distance[k]) < 1e-3 * r_pool && (p.x[k] - start).norm() <= 2 * r_pool;
+  };
   ParticleState pool;
   {
     std::vector<size_t> keep =
@@ -367,17 +389,10 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     backend.particle_project(s, pool, proj);
     check_finite(pool, 0, backend.device() + " (seeding)");
     // Keep those that reached the surface near where they started.
-    size_t m = 0;
-    for (size_t k = 0; k < pool.size(); ++k) {
-      if (!(std::abs(pool.distance[k]) < 1e-3 * r_pool) || (pool.x[k] - candidates[keep[k]]).norm() > 2 * r_pool)
-        continue;
-      pool.x[m] = pool.x[k];
-      pool.normal[m] = pool.normal[k];
-      pool.distance[m] = pool.distance[k];
-      pool.curv[m] = pool.curv[k];
-      ++m;
-    }
-    pool.resize(m);
+    std::vector<size_t> reached;
+    for (size_t k = 0; k < pool.size(); ++k)
+      if (reached_surface(pool, k, candidates[keep[k]])) reached.push_back(k);
+    keep_rows(pool, reached);
   }
   if (pool.size() < 4) throw InputError("sample: the candidate points do not lie on the surface (fewer than 4 reached f = 0)");
   stats.pool = int64_t(pool.size());
@@ -432,9 +447,9 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   //    the input's largest sampling gap, is coarser than the targets where they are fine
   //    (seeded from it, the sample CT at --particles 45000 started with 31,200 particles,
   //    ended with 49,300 and took 60 iterations to settle; seeded so, with graded targets,
-  //    47,600, 52,300 and 30). A Poisson-disk
-  //    subset of the candidates at half the pool's radius ("fine"), each point taking the
-  //    target and thickness of its nearest pool point, is thinned to a Poisson-disk subset
+  //    47,600, 52,300 and 30). A Poisson-disk subset of the candidates at half the pool's
+  //    radius ("fine"), each point taking the target and thickness of its nearest pool
+  //    point, is thinned to a Poisson-disk subset
   //    at each point's target spacing. The disk-to-spacing factor of an ideal sample
   //    (1 / 1.29) is only a start (the points are discrete), so it is corrected a few
   //    times until the seeds' measured spacing is their target's (median): the particles
@@ -514,26 +529,18 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     std::vector<Eigen::Vector3d> at;
     std::vector<double> r;
     for (size_t k = 0; k < st.size(); ++k) {
-      if (!(std::abs(st.distance[k]) < 1e-3 * r_pool) || (st.x[k] - fine[seeds[k]]).norm() > 2 * r_pool) continue;
+      if (!reached_surface(st, k, fine[seeds[k]])) continue;
       reached.push_back(k);
       at.push_back(st.x[k]);
       r.push_back(radius[seeds[k]]);
     }
-    const std::vector<size_t> keep =
-        at.empty() ? std::vector<size_t>{} : poisson_disk(at, r, hashed_order(at.size(), opt.seed + 3));
-    size_t m = 0;
-    for (size_t j : keep) {
-      const size_t k = reached[j];
-      st.x[m] = st.x[k];
-      st.sigma[m] = st.sigma[k];
-      st.target[m] = st.target[k];
-      st.normal[m] = st.normal[k];
-      st.distance[m] = st.distance[k];
-      st.curv[m] = st.curv[k];
-      thickness.push_back(thick[fine_pool[seeds[k]]]);
-      ++m;
-    }
-    st.resize(m);
+    std::vector<size_t> rows;
+    if (!at.empty())
+      for (size_t j : poisson_disk(at, r, hashed_order(at.size(), opt.seed + 3))) {
+        rows.push_back(reached[j]);
+        thickness.push_back(thick[fine_pool[seeds[reached[j]]]]);
+      }
+    keep_rows(st, rows);
   }
   if (st.size() < 4) throw InputError("sample: fewer than 4 seeds reached the surface f = 0");
   order_spatially(st, thickness);
@@ -632,7 +639,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     // to twice its radius, which fission fills slowly. On the sample CT the count grows
     // by 0.6-0.8% per update from the 20th iteration to the 40th, and a 0.5% bound waited
     // for it: 35-40 iterations instead of 30. Stopped at 30, the meshes of three seeds had
-    // smallest angles of 20.0-20.4° and radius ratios of 0.936-0.937.)
+    // smallest angles of 19.2-20.1° and radius ratios of 0.934-0.935.)
     const bool settled = std::abs(rec.births - rec.deaths) <= std::max<int64_t>(1, int64_t(st.size()) / 100) &&
                          rec.mean_move < 0.1;
     if (final_batch) break;

@@ -42,7 +42,7 @@ struct Row {
   double seconds = 0;
   Quality q;
   double mean_to_mc = 0, p99_to_mc = 0, p99_from_mc = 0;
-  int64_t missing_bones = 0, bones = 0;
+  int64_t bones = 0;
   std::vector<std::string> missing;  // each missing bone: size, centre, median distance
 };
 
@@ -89,7 +89,6 @@ void measure(Row& r, const TriangleMesh& mc, bool self_intersections) {
     std::vector<double> d = point_distances(verts[c], *r.mesh);
     std::nth_element(d.begin(), d.begin() + ptrdiff_t(d.size() / 2), d.end());
     if (d[d.size() / 2] > 2.0) {
-      ++r.missing_bones;
       Eigen::Vector3d centre = Eigen::Vector3d::Zero();
       for (const auto& v : verts[c]) centre += v;
       centre /= double(verts[c].size());
@@ -187,7 +186,7 @@ int main(int argc, char** argv) {
               "degrees; RR: mean radius ratio; dihed: mean dihedral angle, degrees; mean-d, p99 to: distance to the "
               "marching-cubes surface, p99 from: from it, mm)\n");
   for (const Row& r : rows) {
-    if (r.bones) std::printf("%s: %lld of %lld bones missing\n", r.name.c_str(), (long long)r.missing_bones, (long long)r.bones);
+    if (r.bones) std::printf("%s: %lld of %lld bones missing\n", r.name.c_str(), (long long)r.missing.size(), (long long)r.bones);
     for (const std::string& m : r.missing) std::printf("  missing: %s\n", m.c_str());
   }
   std::printf("\ntime ours / CGAL Mesh_3: %.2f; triangles ours / CGAL: %.2f\n", t_ours / cg.seconds,
