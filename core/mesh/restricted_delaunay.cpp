@@ -484,6 +484,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   std::vector<RFacet> facets;
   std::vector<char> touched(points.size());
   std::vector<Dt::Vertex_handle> inserted;  // the last round's repair points
+  std::vector<char> is_sheet;               // per repair point: a lost-sheet point
   // Inserts points as repair points (in an order that does not depend on where the cells
   // lie in memory); the new vertices go to `inserted`.
   auto insert_repair = [&](std::vector<Eigen::Vector3d> add, Cell hint) {
@@ -561,6 +562,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
       for (uint32_t f : chosen) add.push_back(ball.at(f).first);
       const size_t before = repair.size();
       insert_repair(add, facets[chosen[0]].cell);
+      is_sheet.resize(repair.size(), 0);
       if (repair.size() == before)
         throw NumericalError("triangulate: the manifold repair made no progress (" + std::to_string(groups.size()) +
                              " non-manifold edges or vertices)");
@@ -573,11 +575,25 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
     const std::vector<Eigen::Vector3d> sheet = lost_sheet_points(s, dt, facets, points, repair);
     if (!sheet.empty()) insert_repair(sheet, dt.infinite_cell());
     stats.sheet_points += int64_t(repair.size() - before);
+    is_sheet.resize(repair.size(), 1);
     if (repair.size() == before) break;
     ++round;
   }
 
   stats.seconds_repair += timer.lap();
+  {  // components that no particle holds (see sampled_components)
+    std::vector<std::array<uint32_t, 3>> tris(facets.size());
+    for (size_t f = 0; f < facets.size(); ++f) tris[f] = facets[f].v;
+    const std::vector<char> keep =
+        sampled_components(tris, points.size() + repair.size(),
+                           [&](uint32_t id) { return id < points.size() || is_sheet[id - points.size()]; },
+                           &stats.spurious_components);
+    size_t n = 0;
+    for (size_t f = 0; f < facets.size(); ++f)
+      if (keep[f]) facets[n++] = facets[f];
+    stats.spurious_triangles = int64_t(facets.size() - n);
+    facets.resize(n);
+  }
   // Triangles in a canonical order (each rotated to start at its smallest id, then sorted),
   // not in the order the cells lie in memory, which depends on the insertion history.
   for (RFacet& f : facets) std::rotate(f.v.begin(), std::min_element(f.v.begin(), f.v.end()), f.v.end());
@@ -686,6 +702,32 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = stats;
   return mesh;
+}
+
+std::vector<char> sampled_components(const std::vector<std::array<uint32_t, 3>>& triangles, size_t vertices,
+                                     const std::function<bool(uint32_t)>& sampled, int64_t* unsampled) {
+  std::vector<uint32_t> parent(vertices);  // union-find over the vertices
+  std::iota(parent.begin(), parent.end(), 0u);
+  auto find = [&](uint32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  for (const auto& t : triangles)
+    for (int k = 1; k < 3; ++k) parent[find(t[size_t(k)])] = find(t[0]);
+  std::vector<char> held(vertices, 0);  // per component root: holds a sampled vertex
+  std::vector<char> seen(vertices, 0);
+  for (const auto& t : triangles)
+    for (uint32_t v : t) held[find(v)] |= char(sampled(v));
+  std::vector<char> keep(triangles.size());
+  int64_t none = 0;
+  for (size_t f = 0; f < triangles.size(); ++f) {
+    const uint32_t r = find(triangles[f][0]);
+    keep[f] = held[r];
+    none += !held[r] && !seen[r];
+    seen[r] = 1;
+  }
+  if (unsampled) *unsampled = none;
+  return keep;
 }
 
 }  // namespace mpumesh

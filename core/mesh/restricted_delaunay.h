@@ -8,13 +8,16 @@
 // changes are looked at again, round by round. Where a particle ends on no facet because
 // a plate thinner than the sampling lies whole in its Voronoi cell, a point on the plate's
 // other side is added and the manifold repair runs again (lost sheets, twice at most).
+// A component that no particle holds is removed (sampled_components).
 // The triangles are oriented consistently
 // through their shared edges, each component outward by ∇f; then edge collapses and flips
 // remove most thin triangles (mesh/thin_triangles.h).
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "mesh/triangle_mesh.h"
@@ -31,6 +34,8 @@ struct RestrictedDelaunayStats {
   int64_t unused_points = 0;   // given points on no restricted facet (dropped)
   int64_t sheet_points = 0;    // repair points put on the far side of a thin plate that a
                                // particle's Voronoi cell held whole (lost sheets)
+  int64_t spurious_components = 0;  // made of manifold-repair points only, removed: they
+  int64_t spurious_triangles = 0;   // lie on a sheet of f that no particle reached
   int64_t flipped_components = 0;
   int64_t edge_flips = 0, edge_collapses = 0;  // thin triangles removed (mesh/thin_triangles.h)
   int64_t vertices_relaxed = 0;                 // moved to mend the thin triangles left
@@ -50,6 +55,17 @@ struct RestrictedDelaunayStats {
 TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
                                  RestrictedDelaunayStats* stats = nullptr, int64_t max_repair_points = 0,
                                  ComputeBackend* backend = nullptr);
+
+// Per triangle: whether its component (triangles joined through shared vertices) holds a
+// vertex v with sampled(v). restricted_delaunay keeps only those: a component that no
+// particle or lost-sheet point holds was made by the manifold repair alone, on a sheet of
+// f that no particle reached. The particles start at the data points and stay on f = 0,
+// so every sheet the data support holds some; such a component lies on a spurious sheet
+// of the fit (on the sample CT: 4 repair points 18-22 mm from any bone, in the air by the
+// volume's cut face, where f < 0; a tetrahedron with 10 mm edges). *unsampled: how many
+// components hold none.
+std::vector<char> sampled_components(const std::vector<std::array<uint32_t, 3>>& triangles, size_t vertices,
+                                     const std::function<bool(uint32_t)>& sampled, int64_t* unsampled = nullptr);
 
 // Orients the triangles of each edge-connected component consistently (breadth-first
 // through shared edges; the mesh must be manifold) and then each component so that its

@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "common/kd_tree.h"
 #include "compute/compute_backend.h"
+#include "particles/data_support.h"
 #include "particles/spacing_gradation.h"
 #include "particles/spacing_stats.h"
 
@@ -362,6 +363,9 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   const double gap = candidates.size() > 13 ? median_spacing(candidates, tree, 12) : extent / 50;
   double r_pool = std::max(gap, extent / 400);
   if (opt.spacing > 0) r_pool = std::min(r_pool, std::max(opt.spacing * kDiskPerSpacing, extent / 400));
+  // Particles farther than 4 r_pool from every candidate left the data for a spurious
+  // sheet of f (particles/data_support.h) and are removed.
+  const DataSupport support(candidates, 4 * r_pool);
   // A point pulled onto f = 0 counts when it got there (within 1e-3 r_pool) near where it
   // started (within 2 r_pool).
   auto reached_surface = [&](const ParticleState& p, size_t k, const Eigen::Vector3d& start) {
@@ -590,7 +594,12 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     if (!final_batch) {
       // Decide on the state as it is, then build the next population in index order:
       // survivors (a splitting parent moved to one side), then the second children.
-      const std::vector<uint8_t> fate = decide_population(st, opt, it, cap);
+      std::vector<uint8_t> fate = decide_population(st, opt, it, cap);
+      for (size_t i = 0; i < st.size(); ++i)
+        if (fate[i] != kDie && !support.near(st.x[i])) {
+          fate[i] = kDie;
+          ++stats.off_data;
+        }
       ParticleState next;
       std::vector<double> next_thick;
       auto push = [&](size_t i, const Eigen::Vector3d& x, double sigma) {
@@ -650,6 +659,13 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     }
   }
   stats.iterations = it;
+  {  // and those that left the data in the final batch
+    std::vector<size_t> rows;
+    for (size_t i = 0; i < st.size(); ++i)
+      if (support.near(st.x[i])) rows.push_back(i);
+    stats.off_data += int64_t(st.size() - rows.size());
+    if (rows.size() < st.size()) keep_rows(st, rows);
+  }
   stats.particles = int64_t(st.size());
   return st;
 }

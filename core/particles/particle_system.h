@@ -74,6 +74,8 @@ struct PopulationRecord {
 struct SampleStats {
   int64_t candidates = 0, pool = 0, seeds = 0, particles = 0, births = 0, deaths = 0;
   int64_t thickness_bound = 0;  // particles whose spacing the thickness bound set
+  int64_t off_data = 0;         // removed for lying farther than 4 r_pool from every
+                                // candidate (on a spurious sheet; particles/data_support.h)
   int iterations = 0;
   bool converged = false;
   double spacing = 0;           // h

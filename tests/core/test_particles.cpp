@@ -12,6 +12,7 @@
 #include "mesh/topology.h"
 #include "mesh/restricted_delaunay.h"
 #include "mpu/mpu_fit.h"
+#include "particles/data_support.h"
 #include "particles/particle_system.h"
 #include "particles/spacing_gradation.h"
 #include "particles/spacing_stats.h"
@@ -230,6 +231,94 @@ TEST(RestrictedDelaunay, RecoversASheetThatVoronoiCellsHoldWhole) {
   EXPECT_TRUE(topo.oriented);
   EXPECT_EQ(topo.components, 2);
   EXPECT_LT(dmax, 0.15);  // the fit of a 0.6 mm wall lies within 0.1 mm of the spheres
+}
+
+// The data support grid: every point within the reach of a candidate is near, none
+// farther than √3 (reach + cell) (the cells are half the reach wide here, 1 mm).
+TEST(DataSupport, HoldsThePointsWithinTheReach) {
+  std::vector<Eigen::Vector3d> c;
+  for (int k = 0; k < 500; ++k) {
+    const double z = 1 - (2 * k + 1.0) / 500, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+    c.push_back(10.0 * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
+  }
+  const double reach = 2.0;
+  const particles::DataSupport ds(c, reach);
+  int64_t near_missed = 0, far_held = 0, far_tried = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Eigen::Vector3d q = Eigen::Vector3d(particles::hash01(uint32_t(k), 0, 7, 0), particles::hash01(uint32_t(k), 0, 7, 1),
+                                              particles::hash01(uint32_t(k), 0, 7, 2)) * 32.0 - Eigen::Vector3d::Constant(16);
+    double d = INFINITY;
+    for (const auto& p : c) d = std::min(d, (p - q).norm());
+    if (d <= reach) near_missed += !ds.near(q);
+    if (d > std::sqrt(3.0) * 1.5 * reach) {
+      ++far_tried;
+      far_held += ds.near(q);
+    }
+  }
+  std::printf("reach %.1f mm: %lld of the points within it missed, %lld of %lld far points held\n", reach,
+              (long long)near_missed, (long long)far_held, (long long)far_tried);
+  EXPECT_EQ(near_missed, 0);
+  EXPECT_GT(far_tried, 5000);
+  EXPECT_EQ(far_held, 0);
+  EXPECT_FALSE(ds.near(Eigen::Vector3d(0, 0, 0)));      // the sphere's centre, 10 mm from all
+  EXPECT_FALSE(ds.near(Eigen::Vector3d(100, 0, 0)));    // outside the grid
+}
+
+// Particles leave no part of the surface that the candidates do not reach: the union of
+// two balls (r = 10 at x = 0 and x = 12) fitted whole, the particles seeded from the
+// points with x < 0 only. They spread along the surface towards x = 22; those farther than
+// the reach (4 r_pool) from every candidate are removed.
+TEST(Particles, StayWithinReachOfTheData) {
+  PointCloud cloud, left;
+  for (const double cx : {0.0, 12.0})
+    for (int k = 0; k < 6000; ++k) {
+      const double z = 1 - (2 * k + 1.0) / 6000, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+      const Eigen::Vector3d n(r * std::cos(phi), r * std::sin(phi), z);
+      const Eigen::Vector3d x = Eigen::Vector3d(cx, 0, 0) + 10.0 * n;
+      if ((x - Eigen::Vector3d(12.0 - cx, 0, 0)).norm() < 10) continue;  // inside the other ball
+      cloud.positions.push_back(x);
+      cloud.normals.push_back(n);
+      if (x.x() < 0) left.positions.push_back(x);
+    }
+  const mpu::MpuSurface s = mpu::fit_mpu(cloud, {});
+  CpuBackend cpu;
+  particles::SampleOptions o;
+  o.spacing = 2.0;
+  particles::SampleStats st;
+  const ParticleState ps = particles::sample_surface(s, left.positions, o, cpu, &st);
+  double farthest = 0, right = -INFINITY;
+  for (const auto& x : ps.x) {
+    double d = INFINITY;
+    for (const auto& p : left.positions) d = std::min(d, (p - x).norm());
+    farthest = std::max(farthest, d);
+    right = std::max(right, x.x());
+  }
+  std::printf("%lld particles (%lld removed off the data), farthest %.2f mm from the candidates, largest x %.2f mm\n",
+              (long long)st.particles, (long long)st.off_data, farthest, right);
+  EXPECT_GT(st.off_data, 0);
+  EXPECT_GT(right, 0.5);  // they did spread past the candidates
+  EXPECT_LT(farthest, 8.0);
+}
+
+// Components of a triangle list that hold a sampled vertex: two tetrahedra (vertices 0-3
+// and 4-7) and a third joined to the second through vertex 7 (7-10). Only vertex 1 and
+// vertex 9 are sampled: the first and the joined pair stay, nothing else is removed.
+TEST(RestrictedDelaunay, KeepsTheComponentsThatParticlesHold) {
+  auto tet = [](uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+    return std::vector<std::array<uint32_t, 3>>{{a, b, c}, {a, d, b}, {b, d, c}, {a, c, d}};
+  };
+  std::vector<std::array<uint32_t, 3>> tris;
+  for (const auto& t : {tet(0, 1, 2, 3), tet(4, 5, 6, 7), tet(7, 8, 9, 10), tet(11, 12, 13, 14)})
+    tris.insert(tris.end(), t.begin(), t.end());
+  int64_t unsampled = -1;
+  const std::vector<char> keep =
+      sampled_components(tris, 15, [](uint32_t v) { return v == 1 || v == 9; }, &unsampled);
+  const std::vector<char> want = {1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 0, 0, 0, 0};
+  EXPECT_EQ(keep, want);
+  EXPECT_EQ(unsampled, 1);
+  EXPECT_EQ(std::count(keep.begin(), keep.end(), 1), 12);
+  sampled_components(tris, 15, [](uint32_t) { return false; }, &unsampled);
+  EXPECT_EQ(unsampled, 3);
 }
 
 // A thin plate: a spherical shell 1.5 mm thick (outer r 20, inner 18.5), asked for a 4 mm
