@@ -1,4 +1,4 @@
-// Where the data are: which points lie within a reach of the candidate points (the
+// Where the data are: whether a point lies within a reach of the candidate points (the
 // fitted points, from which the particles are seeded).
 //
 // An MPU fit can have a spurious sheet of f = 0 away from every point, where only the
@@ -7,12 +7,10 @@
 // slide onto it are sampling nothing the data say; the particle system removes those
 // farther than the reach from every candidate.
 //
-// A boolean grid over the candidates' bounding box (widened by the reach), of cells at
-// least half the reach wide: a cell is on when it lies within ceil(reach / cell) cells of
-// a candidate's cell along every axis. Every point within `reach` of a candidate is then
-// near, and none farther than √3 (ceil(reach / cell) + 1) cells from every candidate:
-// √3 (reach + cell) when the reach is a whole number of cells, under √3 (reach + 2 cell)
-// always.
+// The candidates bucketed in a grid of cells at least the reach wide; near() looks in the
+// 27 cells around the point, its own first, and stops at the first candidate within the
+// reach (on the surface that is one of the first few it sees). Exact: true if and only if
+// some candidate lies within `reach`.
 #pragma once
 
 #include <Eigen/Dense>
@@ -24,16 +22,17 @@ namespace mpumesh::particles {
 
 class DataSupport {
  public:
-  // At most `max_cells` cells along an axis (the cell grows where the box is large).
-  DataSupport(const std::vector<Eigen::Vector3d>& candidates, double reach, int max_cells = 256);
+  // At most `max_cells` cells along an axis (the cells grow where the box is large).
+  DataSupport(const std::vector<Eigen::Vector3d>& candidates, double reach, int max_cells = 128);
   bool near(const Eigen::Vector3d& x) const;
   double reach() const { return reach_; }
 
  private:
+  const std::vector<Eigen::Vector3d>* points_;
   Eigen::Vector3d lo_;
   double cell_ = 1, reach_ = 0;
   std::array<int64_t, 3> dims_{1, 1, 1};
-  std::vector<uint8_t> on_;
+  std::vector<uint32_t> first_, ids_;  // compressed rows: the candidates of each cell
 };
 
 }  // namespace mpumesh::particles

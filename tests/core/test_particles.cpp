@@ -233,8 +233,7 @@ TEST(RestrictedDelaunay, RecoversASheetThatVoronoiCellsHoldWhole) {
   EXPECT_LT(dmax, 0.15);  // the fit of a 0.6 mm wall lies within 0.1 mm of the spheres
 }
 
-// The data support grid: every point within the reach of a candidate is near, none
-// farther than √3 (reach + cell) (the cells are half the reach wide here, 1 mm).
+// The data support: exactly the points within the reach of some candidate are near.
 TEST(DataSupport, HoldsThePointsWithinTheReach) {
   std::vector<Eigen::Vector3d> c;
   for (int k = 0; k < 500; ++k) {
@@ -242,26 +241,31 @@ TEST(DataSupport, HoldsThePointsWithinTheReach) {
     c.push_back(10.0 * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
   }
   const double reach = 2.0;
-  const particles::DataSupport ds(c, reach);
-  int64_t near_missed = 0, far_held = 0, far_tried = 0;
-  for (int k = 0; k < 20000; ++k) {
-    const Eigen::Vector3d q = Eigen::Vector3d(particles::hash01(uint32_t(k), 0, 7, 0), particles::hash01(uint32_t(k), 0, 7, 1),
-                                              particles::hash01(uint32_t(k), 0, 7, 2)) * 32.0 - Eigen::Vector3d::Constant(16);
-    double d = INFINITY;
-    for (const auto& p : c) d = std::min(d, (p - q).norm());
-    if (d <= reach) near_missed += !ds.near(q);
-    if (d > std::sqrt(3.0) * 1.5 * reach) {
-      ++far_tried;
-      far_held += ds.near(q);
+  // Cells of the reach (2 mm), and cells of 5 mm (at most 4 along the 20 mm box).
+  for (const int max_cells : {128, 4}) {
+    const particles::DataSupport ds(c, reach, max_cells);
+    int64_t near_tried = 0, near_missed = 0, far_held = 0, far_tried = 0;
+    for (int k = 0; k < 20000; ++k) {
+      const Eigen::Vector3d q = Eigen::Vector3d(particles::hash01(uint32_t(k), 0, 7, 0),
+                                                particles::hash01(uint32_t(k), 0, 7, 1),
+                                                particles::hash01(uint32_t(k), 0, 7, 2)) * 32.0 -
+                                Eigen::Vector3d::Constant(16);
+      double d = INFINITY;
+      for (const auto& p : c) d = std::min(d, (p - q).norm());
+      (d <= reach ? near_tried : far_tried) += 1;
+      (d <= reach ? near_missed : far_held) += d <= reach ? !ds.near(q) : ds.near(q);
     }
+    std::printf("reach %.1f mm, at most %d cells a side: %lld of %lld points within it missed, %lld of %lld "
+                "farther held\n",
+                reach, max_cells, (long long)near_missed, (long long)near_tried, (long long)far_held,
+                (long long)far_tried);
+    EXPECT_GT(near_tried, 2000);
+    EXPECT_GT(far_tried, 5000);
+    EXPECT_EQ(near_missed, 0);
+    EXPECT_EQ(far_held, 0);
+    EXPECT_FALSE(ds.near(Eigen::Vector3d(0, 0, 0)));    // the sphere's centre, 10 mm from all
+    EXPECT_FALSE(ds.near(Eigen::Vector3d(100, 0, 0)));  // outside the grid
   }
-  std::printf("reach %.1f mm: %lld of the points within it missed, %lld of %lld far points held\n", reach,
-              (long long)near_missed, (long long)far_held, (long long)far_tried);
-  EXPECT_EQ(near_missed, 0);
-  EXPECT_GT(far_tried, 5000);
-  EXPECT_EQ(far_held, 0);
-  EXPECT_FALSE(ds.near(Eigen::Vector3d(0, 0, 0)));      // the sphere's centre, 10 mm from all
-  EXPECT_FALSE(ds.near(Eigen::Vector3d(100, 0, 0)));    // outside the grid
 }
 
 // Particles leave no part of the surface that the candidates do not reach: the union of
@@ -297,7 +301,7 @@ TEST(Particles, StayWithinReachOfTheData) {
               (long long)st.particles, (long long)st.off_data, farthest, right);
   EXPECT_GT(st.off_data, 0);
   EXPECT_GT(right, 0.5);  // they did spread past the candidates
-  EXPECT_LT(farthest, 8.0);
+  EXPECT_LT(farthest, 4.0);  // the reach, 4 r_pool, is about 3.6 mm here
 }
 
 // Components of a triangle list that hold a sampled vertex: two tetrahedra (vertices 0-3
