@@ -103,6 +103,7 @@ nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
   return {{"particles", st.particles},
           {"repair_points", st.repair_points},
           {"repair_rounds", st.repair_rounds},
+          {"wide_facets_refined", st.wide_facets},
           {"unused_particles", st.unused_points},
           {"sheet_points", st.sheet_points},
           {"spurious_components_removed", st.spurious_components},

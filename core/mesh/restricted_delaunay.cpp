@@ -255,6 +255,53 @@ std::vector<std::vector<uint32_t>> non_manifold_groups(const std::vector<RFacet>
   return groups;
 }
 
+// A restricted facet much wider than the sampling around it: its dual Voronoi edge crosses
+// a sheet of f that no point samples (the small unsampled ball between two sampled spheres
+// of RestrictedDelaunay.SamplesASheetBetweenSampledOnes: a tube of facets 20 mm long
+// joined them, closed and manifold, so the manifold repair saw nothing). Such a facet gets
+// the crossing as a point, as CGAL's surface mesher refines facets over its size bound:
+// the sheet is then sampled and meshed on its own (and removed when no particle holds it,
+// see sampled_components). The candidates here: facets with a vertex in `check` whose
+// circumradius exceeds kOversize times the longest of their vertices' shortest restricted
+// edges; each with that bound, which its surface Delaunay ball (no smaller than the
+// circumradius) must exceed too. On the sample CT no facet comes near (the largest ratio,
+// after the cleanup, is 1.34).
+constexpr double kOversize = 3;
+std::vector<std::pair<uint32_t, double>> oversized_facets(const std::vector<RFacet>& facets, const std::vector<char>& check,
+                                                          size_t ids) {
+  std::vector<double> shortest(ids, INFINITY);
+  auto corners = [&](const RFacet& f) {
+    return std::array<Eigen::Vector3d, 3>{vec(f.cell->vertex((f.i + 1) & 3)->point()),
+                                          vec(f.cell->vertex((f.i + 2) & 3)->point()),
+                                          vec(f.cell->vertex((f.i + 3) & 3)->point())};
+  };
+  auto ids_of = [&](const RFacet& f) {
+    return std::array<uint32_t, 3>{f.cell->vertex((f.i + 1) & 3)->info(), f.cell->vertex((f.i + 2) & 3)->info(),
+                                   f.cell->vertex((f.i + 3) & 3)->info()};
+  };
+  for (const RFacet& f : facets) {
+    const auto p = corners(f);
+    const auto v = ids_of(f);
+    for (int e = 0; e < 3; ++e) {
+      const double len = (p[size_t(e)] - p[size_t((e + 1) % 3)]).norm();
+      shortest[v[size_t(e)]] = std::min(shortest[v[size_t(e)]], len);
+      shortest[v[size_t((e + 1) % 3)]] = std::min(shortest[v[size_t((e + 1) % 3)]], len);
+    }
+  }
+  std::vector<std::pair<uint32_t, double>> out;
+  for (uint32_t k = 0; k < facets.size(); ++k) {
+    const auto v = ids_of(facets[k]);
+    if (!check[v[0]] && !check[v[1]] && !check[v[2]]) continue;
+    const auto p = corners(facets[k]);
+    const double a = (p[1] - p[2]).norm(), b = (p[0] - p[2]).norm(), c = (p[0] - p[1]).norm();
+    const double twice_area = (p[1] - p[0]).cross(p[2] - p[0]).norm();
+    const double bound = kOversize * std::max({shortest[v[0]], shortest[v[1]], shortest[v[2]]});
+    // circumradius a b c / (4 area) > bound, without dividing by a vanishing area
+    if (a * b * c > 2 * bound * twice_area) out.emplace_back(k, bound);
+  }
+  return out;
+}
+
 // Where a thin plate passes through a particle's Voronoi cell with both of its sides, every
 // Voronoi edge there crosses f = 0 twice or not at all, and the particle gets no restricted
 // facet: the plate drops out of the mesh (on the sample CT, a bone fragment of 272
@@ -512,17 +559,18 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
       stats.seconds_evaluate += timer.lap();
       facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
       const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
-      if (groups.empty()) break;
+      const std::vector<std::pair<uint32_t, double>> wide = oversized_facets(facets, touched, touched.size());
+      if (groups.empty() && wide.empty()) break;
       if (repair.size() >= max_repair || round >= 100)
         throw NumericalError("triangulate: " + std::to_string(groups.size()) +
                              " non-manifold edges or vertices remain after " + std::to_string(repair.size()) +
                              " repair points in " + std::to_string(round) +
                              " rounds: the particles are too sparse for this surface (ask for more)");
-      stats.repair_rounds = round + 1;
       // The largest facet of each group, each crossing computed once and each facet once.
       // The crossings (bisection on f) are found in parallel.
       std::vector<uint32_t> need;
       for (const auto& g : groups) need.insert(need.end(), g.begin(), g.end());
+      for (const auto& w : wide) need.push_back(w.first);
       std::sort(need.begin(), need.end());
       need.erase(std::unique(need.begin(), need.end()), need.end());
       std::vector<std::pair<Eigen::Vector3d, double>> found(need.size());
@@ -556,6 +604,13 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
         }
         chosen.push_back(best);
       }
+      for (const auto& [f, bound] : wide)
+        if (ball.at(f).second > bound) {
+          chosen.push_back(f);
+          ++stats.wide_facets;
+        }
+      if (chosen.empty()) break;  // no group, and no wide facet's ball past its bound
+      stats.repair_rounds = round + 1;
       std::sort(chosen.begin(), chosen.end());
       chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
       std::vector<Eigen::Vector3d> add;

@@ -8,7 +8,9 @@
 // changes are looked at again, round by round. Where a particle ends on no facet because
 // a plate thinner than the sampling lies whole in its Voronoi cell, a point on the plate's
 // other side is added and the manifold repair runs again (lost sheets, twice at most).
-// A component that no particle holds is removed (sampled_components).
+// A facet far wider than the sampling around it gets its crossing as a point too (the
+// sheet under it is sampled by none). A component that no particle holds is removed
+// (sampled_components).
 // The triangles are oriented consistently
 // through their shared edges, each component outward by ∇f; then edge collapses and flips
 // remove most thin triangles (mesh/thin_triangles.h).
@@ -31,6 +33,8 @@ struct RestrictedDelaunayStats {
   int64_t particles = 0;       // points given
   int64_t repair_points = 0;   // points added for a manifold (and used by the mesh)
   int64_t repair_rounds = 0;   // rounds of the manifold repair
+  int64_t wide_facets = 0;     // facets far wider than the sampling around them (an
+                               // unsampled sheet under them) whose crossing was inserted
   int64_t unused_points = 0;   // given points on no restricted facet (dropped)
   int64_t sheet_points = 0;    // repair points put on the far side of a thin plate that a
                                // particle's Voronoi cell held whole (lost sheets)

@@ -325,6 +325,51 @@ TEST(RestrictedDelaunay, KeepsTheComponentsThatParticlesHold) {
   EXPECT_EQ(unsampled, 3);
 }
 
+// A sheet of f that no particle samples between two that particles do: three balls fitted
+// (r = 10 at x = ±20, r = 3 at the origin) and particles on the two large ones only, about
+// 1.6 mm apart. Delaunay cells that bridge the 20 mm gap have their circumcentres in the
+// small ball, where f < 0: without the wide-facet refinement their facets made a tube
+// from one sphere to the other, closed and manifold (one component of 1,988 triangles).
+// The refinement samples the small ball with repair points; that component holds no
+// particle and is removed. Left: the two spheres, closed, nothing near the small ball.
+TEST(RestrictedDelaunay, SamplesASheetBetweenSampledOnes) {
+  PointCloud cloud;
+  std::vector<Eigen::Vector3d> given;
+  auto sphere = [&](const Eigen::Vector3d& c, double r, int n, bool particles) {
+    for (int k = 0; k < n; ++k) {
+      const double z = 1 - (2 * k + 1.0) / n, rho = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+      const Eigen::Vector3d u(rho * std::cos(phi), rho * std::sin(phi), z);
+      cloud.positions.push_back(c + r * u);
+      cloud.normals.push_back(u);
+    }
+    for (int k = 0; particles && k < n / 8; ++k) {
+      const double z = 1 - (2 * k + 1.0) / (n / 8), rho = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+      given.push_back(c + r * Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z));
+    }
+  };
+  sphere({-20, 0, 0}, 10, 4000, true);
+  sphere({20, 0, 0}, 10, 4000, true);
+  sphere({0, 0, 0}, 3, 400, false);
+  const mpu::MpuSurface s = mpu::fit_mpu(cloud, {});
+  RestrictedDelaunayStats rs;
+  const TriangleMesh m = restricted_delaunay(s, given, &rs);
+  const Topology topo = analyze_topology(m);
+  double nearest = INFINITY;  // the closest vertex to the small ball's centre
+  for (const auto& v : m.vertices) nearest = std::min(nearest, v.norm());
+  std::printf("%zu particles: %lld wide facets refined, %lld repair points, %lld components (%lld triangles) "
+              "removed; %zu triangles, %lld components, closed %d, nearest vertex %.2f mm from the small ball's "
+              "centre\n",
+              given.size(), (long long)rs.wide_facets, (long long)rs.repair_points, (long long)rs.spurious_components,
+              (long long)rs.spurious_triangles, m.triangles.size(), (long long)topo.components, int(topo.closed),
+              nearest);
+  EXPECT_GT(rs.wide_facets, 0);
+  EXPECT_GE(rs.spurious_components, 1);
+  EXPECT_EQ(topo.components, 2);
+  EXPECT_TRUE(topo.closed);
+  EXPECT_TRUE(topo.manifold);
+  EXPECT_GT(nearest, 9.5);  // only the large spheres, 10 mm from the centre at their nearest
+}
+
 // A thin plate: a spherical shell 1.5 mm thick (outer r 20, inner 18.5), asked for a 4 mm
 // spacing. The thickness bound spaces most particles at 1.5 mm, so the restricted
 // Delaunay mesh is the two spheres, each closed, no triangle bridges the wall and no
