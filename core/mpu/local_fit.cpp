@@ -213,7 +213,14 @@ Leaf fit_general_quadric(const Ball& ball, const PointCloud& cloud, const std::v
     row(Eigen::Index(n + j), y.x(), y.y(), y.z(), aux_scale);
     rhs[Eigen::Index(n + j)] = aux_scale * aux[j].distance / ball.radius;
   }
-  const Eigen::VectorXd x = A.colPivHouseholderQr().solve(rhs);
+  // The normal equations (10 x 10, LDLT, which zeroes the components of vanishing pivots)
+  // rather than a column-pivoting QR of the whole (points + 9) x 10 system: the sample
+  // CT's fit went 3.69 -> 3.31 s (163,000 of its 258,000 leaves are general quadrics), the
+  // same leaves and accuracy figures within the tests' printed digits.
+  Eigen::Matrix<double, 10, 10> AtA = Eigen::Matrix<double, 10, 10>::Zero();
+  AtA.selfadjointView<Eigen::Lower>().rankUpdate(A.transpose());
+  const Eigen::Matrix<double, 10, 1> Atb = A.transpose() * rhs;
+  const Eigen::Matrix<double, 10, 1> x = AtA.selfadjointView<Eigen::Lower>().ldlt().solve(Atb);
   Leaf leaf = make_leaf(ball, frame, FitKind::kGeneralQuadric);
   for (int c = 0; c < 10; ++c) leaf.coeffs[size_t(kIdx[c])] = x[c];
   *error = (x.allFinite() && !aux.empty()) ? taubin_error(leaf, ball, cloud) : std::numeric_limits<double>::infinity();
