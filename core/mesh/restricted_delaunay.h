@@ -34,12 +34,12 @@ struct RestrictedDelaunayStats {
   int64_t repair_points = 0;   // points added for a manifold (and used by the mesh)
   int64_t repair_rounds = 0;   // rounds of the manifold repair
   int64_t wide_facets = 0;     // facets far wider than the sampling around them (an
-                               // unsampled sheet under them) whose crossing was inserted
+                               // unsampled sheet under them) given their crossing as a point
   int64_t unused_points = 0;   // given points on no restricted facet (dropped)
   int64_t sheet_points = 0;    // repair points put on the far side of a thin plate that a
                                // particle's Voronoi cell held whole (lost sheets)
-  int64_t spurious_components = 0;  // made of manifold-repair points only, removed: they
-  int64_t spurious_triangles = 0;   // lie on a sheet of f that no particle reached
+  int64_t spurious_components = 0;  // made of repair points only (no particle or sheet
+  int64_t spurious_triangles = 0;   // point), removed: on a sheet no particle reached
   int64_t flipped_components = 0;
   int64_t edge_flips = 0, edge_collapses = 0;  // thin triangles removed (mesh/thin_triangles.h)
   int64_t vertices_relaxed = 0;                 // moved to mend the thin triangles left
@@ -62,7 +62,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
 
 // Per triangle: whether its component (triangles joined through shared vertices) holds a
 // vertex v with sampled(v). restricted_delaunay keeps only those: a component that no
-// particle or lost-sheet point holds was made by the manifold repair alone, on a sheet of
+// particle or lost-sheet point holds was made by repair points alone, on a sheet of
 // f that no particle reached. The particles start at the data points and stay on f = 0,
 // so every sheet the data support holds some; such a component lies on a spurious sheet
 // of the fit (on the sample CT: 4 repair points 18-22 mm from any bone, in the air by the

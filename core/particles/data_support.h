@@ -25,7 +25,6 @@ class DataSupport {
   // At most `max_cells` cells along an axis (the cells grow where the box is large).
   DataSupport(const std::vector<Eigen::Vector3d>& candidates, double reach, int max_cells = 128);
   bool near(const Eigen::Vector3d& x) const;
-  double reach() const { return reach_; }
 
  private:
   const std::vector<Eigen::Vector3d>* points_;
