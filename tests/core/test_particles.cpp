@@ -23,6 +23,12 @@ namespace {
 
 using particles::ParticleState;
 
+// The k-th of n nearly even directions on the unit sphere (a Fibonacci spiral).
+Eigen::Vector3d fibonacci_direction(int k, int n) {
+  const double z = 1 - (2 * k + 1.0) / n, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
 struct ShapeRun {
   mpu::MpuSurface surface;
   PointCloud cloud;
@@ -198,8 +204,7 @@ TEST(RestrictedDelaunay, RecoversASheetThatVoronoiCellsHoldWhole) {
   PointCloud cloud = test::spherical_shell(20, 19.4);
   for (const double c : {-36.0, 36.0})
     for (int k = 0; k < 400; ++k) {
-      const double z = 1 - (2 * k + 1.0) / 400, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
-      const Eigen::Vector3d n(r * std::cos(phi), r * std::sin(phi), z);
+      const Eigen::Vector3d n = fibonacci_direction(k, 400);
       cloud.positions.push_back(Eigen::Vector3d::Constant(c) + 3.0 * n);
       cloud.normals.push_back(n);
     }
@@ -207,8 +212,7 @@ TEST(RestrictedDelaunay, RecoversASheetThatVoronoiCellsHoldWhole) {
   std::vector<Eigen::Vector3d> outer;
   const int n = 1200;  // about 2 mm apart on r = 20
   for (int k = 0; k < n; ++k) {
-    const double z = 1 - (2 * k + 1.0) / n, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
-    outer.push_back(20.0 * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
+    outer.push_back(20.0 * fibonacci_direction(k, n));
   }
   RestrictedDelaunayStats rs;
   const TriangleMesh m = restricted_delaunay(s, outer, &rs);
@@ -236,10 +240,7 @@ TEST(RestrictedDelaunay, RecoversASheetThatVoronoiCellsHoldWhole) {
 // The data support: exactly the points within the reach of some candidate are near.
 TEST(DataSupport, HoldsThePointsWithinTheReach) {
   std::vector<Eigen::Vector3d> c;
-  for (int k = 0; k < 500; ++k) {
-    const double z = 1 - (2 * k + 1.0) / 500, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
-    c.push_back(10.0 * Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), z));
-  }
+  for (int k = 0; k < 500; ++k) c.push_back(10.0 * fibonacci_direction(k, 500));
   const double reach = 2.0;
   // Cells of the reach (2 mm), and cells of 5 mm (at most 4 along the 20 mm box).
   for (const int max_cells : {128, 4}) {
@@ -276,8 +277,7 @@ TEST(Particles, StayWithinReachOfTheData) {
   PointCloud cloud, left;
   for (const double cx : {0.0, 12.0})
     for (int k = 0; k < 6000; ++k) {
-      const double z = 1 - (2 * k + 1.0) / 6000, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
-      const Eigen::Vector3d n(r * std::cos(phi), r * std::sin(phi), z);
+      const Eigen::Vector3d n = fibonacci_direction(k, 6000);
       const Eigen::Vector3d x = Eigen::Vector3d(cx, 0, 0) + 10.0 * n;
       if ((x - Eigen::Vector3d(12.0 - cx, 0, 0)).norm() < 10) continue;  // inside the other ball
       cloud.positions.push_back(x);
@@ -337,15 +337,11 @@ TEST(RestrictedDelaunay, SamplesASheetBetweenSampledOnes) {
   std::vector<Eigen::Vector3d> given;
   auto sphere = [&](const Eigen::Vector3d& c, double r, int n, bool particles) {
     for (int k = 0; k < n; ++k) {
-      const double z = 1 - (2 * k + 1.0) / n, rho = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
-      const Eigen::Vector3d u(rho * std::cos(phi), rho * std::sin(phi), z);
+      const Eigen::Vector3d u = fibonacci_direction(k, n);
       cloud.positions.push_back(c + r * u);
       cloud.normals.push_back(u);
     }
-    for (int k = 0; particles && k < n / 8; ++k) {
-      const double z = 1 - (2 * k + 1.0) / (n / 8), rho = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
-      given.push_back(c + r * Eigen::Vector3d(rho * std::cos(phi), rho * std::sin(phi), z));
-    }
+    for (int k = 0; particles && k < n / 8; ++k) given.push_back(c + r * fibonacci_direction(k, n / 8));
   };
   sphere({-20, 0, 0}, 10, 4000, true);
   sphere({20, 0, 0}, 10, 4000, true);
