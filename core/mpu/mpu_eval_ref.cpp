@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include "common/error.h"
+#include "mpu/mpu_eval_simd.h"
 
 #include <algorithm>
 #include <cmath>
@@ -136,6 +137,26 @@ double lane_total(const double (&v)[kLanes]) {
 template <int kOrder>
 Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
   Sample out;
+  // The vector paths (mpu_eval_simd.h) give this function's bytes, with fewer
+  // instructions; they decline only lookup cells of more candidates than they buffer.
+  if (const EvalPath path = eval_path(); path != EvalPath::kGeneric) {
+    MPUMESH_ASSERT(s.grid.spheres.size() == s.leaves.size(), "MPU surface without its sphere index");
+    const simd::EvalView view = simd::make_view(s);
+    const simd::EvalOut o = path == EvalPath::kAvx512 ? simd::evaluate_avx512(view, x.data(), kOrder)
+                                                      : simd::evaluate_avx2(view, x.data(), kOrder);
+    if (o.handled) {
+      out.f = o.f;
+      out.leaves = o.leaves;
+      if constexpr (kOrder >= 1) out.g = Eigen::Vector3d(o.g[0], o.g[1], o.g[2]);
+      if constexpr (kOrder >= 2) {
+        for (int e = 0; e < 6; ++e) {
+          out.H(kI[e], kJ[e]) = o.H[e];
+          out.H(kJ[e], kI[e]) = o.H[e];
+        }
+      }
+      return out;
+    }
+  }
   size_t cell;
   if (!grid_cell(s, x, cell)) {
     out.f = s.box_size;

@@ -1,0 +1,119 @@
+// The AVX-512 path of the MPU evaluation (mpu_eval_simd.h): 8 doubles per register, the
+// support test's hits compacted with vpcompressd, eight leaves transposed in registers.
+#include <immintrin.h>
+
+#include <cstdint>
+
+#include "mpu/mpu_eval_simd.h"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+
+#define MPUMESH_SIMD_TARGET __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw")))
+
+namespace mpumesh::mpu::simd {
+namespace {
+
+struct Avx512 {
+  using V = __m512d;
+  using Mask = __mmask8;
+  MPUMESH_SIMD_TARGET static V set1(double a) { return _mm512_set1_pd(a); }
+  MPUMESH_SIMD_TARGET static V zero() { return _mm512_setzero_pd(); }
+  MPUMESH_SIMD_TARGET static V add(V a, V b) { return _mm512_add_pd(a, b); }
+  MPUMESH_SIMD_TARGET static V sub(V a, V b) { return _mm512_sub_pd(a, b); }
+  MPUMESH_SIMD_TARGET static V mul(V a, V b) { return _mm512_mul_pd(a, b); }
+  MPUMESH_SIMD_TARGET static V div(V a, V b) { return _mm512_div_pd(a, b); }
+  MPUMESH_SIMD_TARGET static V sqrt(V a) { return _mm512_sqrt_pd(a); }
+  MPUMESH_SIMD_TARGET static Mask lt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+  MPUMESH_SIMD_TARGET static Mask le(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
+  MPUMESH_SIMD_TARGET static V sel(Mask m, V t, V f) { return _mm512_mask_blend_pd(m, f, t); }
+  MPUMESH_SIMD_TARGET static V keep(Mask m, V a) { return _mm512_maskz_mov_pd(m, a); }
+  MPUMESH_SIMD_TARGET static double first(V a) { return _mm512_cvtsd_f64(a); }
+  MPUMESH_SIMD_TARGET static void store(double* p, V a) { _mm512_storeu_pd(p, a); }
+  MPUMESH_SIMD_TARGET static Mask lanes_from(int k) { return Mask(0xffu << k); }
+
+  // An 8 x 8 transpose in three rounds of shuffles.
+  MPUMESH_SIMD_TARGET static void transpose(const V r[8], V* c) {
+    V t[8], u[8];
+    for (int i = 0; i < 4; ++i) {
+      t[2 * i] = _mm512_unpacklo_pd(r[2 * i], r[2 * i + 1]);
+      t[2 * i + 1] = _mm512_unpackhi_pd(r[2 * i], r[2 * i + 1]);
+    }
+    for (int h = 0; h < 2; ++h) {
+      u[4 * h + 0] = _mm512_shuffle_f64x2(t[4 * h + 0], t[4 * h + 2], _MM_SHUFFLE(2, 0, 2, 0));
+      u[4 * h + 1] = _mm512_shuffle_f64x2(t[4 * h + 0], t[4 * h + 2], _MM_SHUFFLE(3, 1, 3, 1));
+      u[4 * h + 2] = _mm512_shuffle_f64x2(t[4 * h + 1], t[4 * h + 3], _MM_SHUFFLE(2, 0, 2, 0));
+      u[4 * h + 3] = _mm512_shuffle_f64x2(t[4 * h + 1], t[4 * h + 3], _MM_SHUFFLE(3, 1, 3, 1));
+    }
+    c[0] = _mm512_shuffle_f64x2(u[0], u[4], _MM_SHUFFLE(2, 0, 2, 0));
+    c[4] = _mm512_shuffle_f64x2(u[0], u[4], _MM_SHUFFLE(3, 1, 3, 1));
+    c[2] = _mm512_shuffle_f64x2(u[1], u[5], _MM_SHUFFLE(2, 0, 2, 0));
+    c[6] = _mm512_shuffle_f64x2(u[1], u[5], _MM_SHUFFLE(3, 1, 3, 1));
+    c[1] = _mm512_shuffle_f64x2(u[2], u[6], _MM_SHUFFLE(2, 0, 2, 0));
+    c[5] = _mm512_shuffle_f64x2(u[2], u[6], _MM_SHUFFLE(3, 1, 3, 1));
+    c[3] = _mm512_shuffle_f64x2(u[3], u[7], _MM_SHUFFLE(2, 0, 2, 0));
+    c[7] = _mm512_shuffle_f64x2(u[3], u[7], _MM_SHUFFLE(3, 1, 3, 1));
+  }
+
+  MPUMESH_SIMD_TARGET static void load_leaves(const double* const* p, V* F) {
+    for (int blk = 0; blk < 4; ++blk) {
+      V r[8];
+      for (int l = 0; l < 8; ++l) r[l] = _mm512_loadu_pd(p[l] + 8 * blk);
+      transpose(r, F + 8 * blk);
+    }
+  }
+
+  MPUMESH_SIMD_TARGET static int support(const double* spheres, const uint32_t* ids, int count, V px, V py, V pz,
+                                         uint32_t* out) {
+    uint32_t tail[8];
+    if (count < 8) {  // a cell's last few: the rest of the lanes test the first again
+      for (int l = 0; l < 8; ++l) tail[l] = ids[l < count ? l : 0];
+      ids = tail;
+    }
+    const uint32_t* id = ids;
+    // Two spheres per register, then a 4 x 8 transpose: cx, cy, cz, R² of the eight.
+    V z[4];
+    for (int k = 0; k < 4; ++k)
+      z[k] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(spheres + 4 * size_t(id[2 * k]))),
+                                _mm256_loadu_pd(spheres + 4 * size_t(id[2 * k + 1])), 1);
+    const __m512i lo = _mm512_setr_epi64(0, 4, 1, 5, 8, 12, 9, 13), hi = _mm512_setr_epi64(2, 6, 3, 7, 10, 14, 11, 15);
+    const V t0 = _mm512_unpacklo_pd(z[0], z[1]), t1 = _mm512_unpackhi_pd(z[0], z[1]);
+    const V t2 = _mm512_unpacklo_pd(z[2], z[3]), t3 = _mm512_unpackhi_pd(z[2], z[3]);
+    const V cx = _mm512_permutex2var_pd(t0, lo, t2), cz = _mm512_permutex2var_pd(t0, hi, t2);
+    const V cy = _mm512_permutex2var_pd(t1, lo, t3), R2 = _mm512_permutex2var_pd(t1, hi, t3);
+    const V dx = sub(px, cx), dy = sub(py, cy), dz = sub(pz, cz);
+    const V r2 = add(add(mul(dx, dx), mul(dy, dy)), mul(dz, dz));
+    const Mask valid = Mask((1u << count) - 1);
+    const Mask hit = _mm512_mask_cmp_pd_mask(valid, r2, R2, _CMP_LT_OQ);
+    // Compacted in a register and stored whole (vpcompressd to memory is slow on Intel);
+    // `out` has room for 8 past the last hit.
+    const __m256i idv = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(id));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(hit, idv));
+    return __builtin_popcount(hit);
+  }
+};
+
+}  // namespace
+}  // namespace mpumesh::mpu::simd
+
+#include "mpu/mpu_eval_simd_kernel.h"
+
+namespace mpumesh::mpu::simd {
+
+MPUMESH_SIMD_TARGET EvalOut evaluate_avx512(const EvalView& v, const double x[3], int order) {
+  return eval_dispatch<Avx512>(v, x, order);
+}
+
+}  // namespace mpumesh::mpu::simd
+
+#else
+
+#include "common/error.h"
+
+namespace mpumesh::mpu::simd {
+EvalOut evaluate_avx512(const EvalView&, const double*, int) {
+  MPUMESH_ASSERT(false, "the AVX-512 evaluation path is not built for this target");
+  return {};
+}
+}  // namespace mpumesh::mpu::simd
+
+#endif

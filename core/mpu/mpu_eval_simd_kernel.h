@@ -1,0 +1,250 @@
+// The vector evaluation kernel of mpu_eval_simd.h, written once over an instruction-set
+// traits class I (mpu_eval_avx512.cpp, mpu_eval_avx2.cpp) whose vectors hold 8 doubles:
+//   V, Mask; set1, zero, add, sub, mul, div, sqrt, lt, le, sel(m, t, f) = m ? t : f,
+//   keep(m, a) = m ? a : +0, first(a) = lane 0, store(p, a) (8 doubles),
+//   lanes_from(k): the mask of lanes >= k,
+//   load_leaves(p[8], F[32]): F[k] lane l = p[l][k],
+//   support(spheres, ids, count <= 8, px, py, pz, out): appends to out, in order, the ids
+//     whose sphere (cx, cy, cz, R²) holds the point (r² < R²); returns how many.
+// The including file defines MPUMESH_SIMD_TARGET (the target attribute) first. Every
+// operation below is the one mpu_eval_ref.cpp does, in its order (see the header there),
+// so that the results are its bytes. No lambdas: they would not carry the target.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "mpu/mpu_eval_simd.h"
+
+namespace mpumesh::mpu::simd {
+
+template <class I>
+struct Sums {
+  typename I::V N, D, gN[3], gD[3], HN[6], HD[6];
+};
+
+template <class I>
+MPUMESH_SIMD_TARGET inline double lane_total(typename I::V a) {
+  double v[8];
+  I::store(v, a);
+  double t = 0;
+  for (int l = 0; l < 8; ++l) t += v[l];
+  return t;
+}
+
+// Eight leaves' terms at the point, added to the running sums (chunk_terms and
+// chunk_sums of the reference). `pad_from`: lanes from it on are padding, 4 R away along
+// x, as the reference pads; f0 is set from lane 0 when `first`.
+template <class I, int kOrder>
+MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const double* const* p, const double x[3], int pad_from, double pad_dx,
+                                           bool first, double& f0, Sums<I>& s) {
+  using V = typename I::V;
+  using Mask = typename I::Mask;
+  V F[32];
+  I::load_leaves(p, F);
+  V dx = I::sub(I::set1(x[0]), F[0]), dy = I::sub(I::set1(x[1]), F[1]), dz = I::sub(I::set1(x[2]), F[2]);
+  if (pad_from < 8) {
+    const Mask pad = I::lanes_from(pad_from);
+    dx = I::sel(pad, I::set1(pad_dx), dx);
+    dy = I::sel(pad, I::zero(), dy);
+    dz = I::sel(pad, I::zero(), dz);
+  }
+  const V r2 = I::add(I::add(I::mul(dx, dx), I::mul(dy, dy)), I::mul(dz, dz));
+  const V R = F[3];
+  const V r = I::sqrt(r2);
+  const V c15 = I::set1(1.5), c05 = I::set1(0.5), m2 = I::set1(-2.0), two = I::set1(2.0), three = I::set1(3.0),
+          four = I::set1(4.0);
+  // bspline_weight
+  const V sw = I::div(c15, R), t = I::mul(sw, r), tm = I::sub(t, c15);
+  const V inner_w = I::sub(I::set1(0.75), I::mul(t, t)), outer_w = I::mul(I::mul(c05, tm), tm);
+  const Mask in = I::le(t, c05), sup = I::lt(t, c15);
+  const V w = I::keep(sup, I::sel(in, inner_w, outer_w));
+  const V dw = I::keep(sup, I::sel(in, I::mul(I::mul(m2, t), sw), I::mul(tm, sw)));
+  const V d2w = I::keep(sup, I::sel(in, I::mul(I::mul(m2, sw), sw), I::mul(sw, sw)));
+  const V invR = I::div(I::set1(1.0), R);
+  V M[9];  // frame rows u, v, w; F holds the frame column-major
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) M[3 * a + b] = F[4 + a + 3 * b];
+  const V u = I::mul(I::add(I::add(I::mul(M[0], dx), I::mul(M[1], dy)), I::mul(M[2], dz)), invR);
+  const V v = I::mul(I::add(I::add(I::mul(M[3], dx), I::mul(M[4], dy)), I::mul(M[5], dz)), invR);
+  const V ww = I::mul(I::add(I::add(I::mul(M[6], dx), I::mul(M[7], dy)), I::mul(M[8], dz)), invR);
+  const V* c = F + 13;
+  const V u2 = I::mul(u, u), v2 = I::mul(v, v), uv = I::mul(u, v);
+  V q = c[0];
+  q = I::add(q, I::mul(c[1], u));
+  q = I::add(q, I::mul(c[2], v));
+  q = I::add(q, I::mul(c[3], u2));
+  q = I::add(q, I::mul(c[4], uv));
+  q = I::add(q, I::mul(c[5], v2));
+  q = I::add(q, I::mul(I::mul(c[6], u2), u));
+  q = I::add(q, I::mul(I::mul(c[7], u2), v));
+  q = I::add(q, I::mul(I::mul(c[8], u), v2));
+  q = I::add(q, I::mul(I::mul(c[9], v2), v));
+  q = I::add(q, I::mul(I::mul(c[10], u2), u2));
+  q = I::add(q, I::mul(I::mul(c[11], u2), uv));
+  q = I::add(q, I::mul(I::mul(c[12], u2), v2));
+  q = I::add(q, I::mul(I::mul(c[13], uv), v2));
+  q = I::add(q, I::mul(I::mul(c[14], v2), v2));
+  q = I::add(q, I::mul(c[15], ww));
+  q = I::add(q, I::mul(I::mul(c[16], ww), ww));
+  q = I::add(q, I::mul(I::mul(c[17], u), ww));
+  q = I::add(q, I::mul(I::mul(c[18], v), ww));
+  const V Q = I::mul(R, q);
+  if (first) f0 = I::first(Q);
+  const V Qs = I::sub(Q, I::set1(f0));
+  s.N = I::add(s.N, I::mul(w, Qs));
+  s.D = I::add(s.D, w);
+  if constexpr (kOrder >= 1) {
+    V g0 = c[1];
+    g0 = I::add(g0, I::mul(I::mul(two, c[3]), u));
+    g0 = I::add(g0, I::mul(c[4], v));
+    g0 = I::add(g0, I::mul(I::mul(three, c[6]), u2));
+    g0 = I::add(g0, I::mul(I::mul(two, c[7]), uv));
+    g0 = I::add(g0, I::mul(c[8], v2));
+    g0 = I::add(g0, I::mul(I::mul(I::mul(four, c[10]), u2), u));
+    g0 = I::add(g0, I::mul(I::mul(I::mul(three, c[11]), u2), v));
+    g0 = I::add(g0, I::mul(I::mul(I::mul(two, c[12]), u), v2));
+    g0 = I::add(g0, I::mul(I::mul(c[13], v2), v));
+    g0 = I::add(g0, I::mul(c[17], ww));
+    V g1 = c[2];
+    g1 = I::add(g1, I::mul(c[4], u));
+    g1 = I::add(g1, I::mul(I::mul(two, c[5]), v));
+    g1 = I::add(g1, I::mul(c[7], u2));
+    g1 = I::add(g1, I::mul(I::mul(two, c[8]), uv));
+    g1 = I::add(g1, I::mul(I::mul(three, c[9]), v2));
+    g1 = I::add(g1, I::mul(I::mul(c[11], u2), u));
+    g1 = I::add(g1, I::mul(I::mul(I::mul(two, c[12]), u2), v));
+    g1 = I::add(g1, I::mul(I::mul(I::mul(three, c[13]), u), v2));
+    g1 = I::add(g1, I::mul(I::mul(I::mul(four, c[14]), v2), v));
+    g1 = I::add(g1, I::mul(c[18], ww));
+    V g2 = c[15];
+    g2 = I::add(g2, I::mul(I::mul(two, c[16]), ww));
+    g2 = I::add(g2, I::mul(c[17], u));
+    g2 = I::add(g2, I::mul(c[18], v));
+    const V sc = I::mul(c15, invR);
+    const Mask inner = I::le(I::mul(sc, r), c05);
+    const V k1 = I::sel(inner, I::mul(I::mul(m2, sc), sc), I::div(dw, r));
+    const V d[3] = {dx, dy, dz};
+    V gw[3], gQ[3];
+    for (int i = 0; i < 3; ++i) {
+      gw[i] = I::mul(k1, d[i]);
+      gQ[i] = I::add(I::add(I::mul(M[i], g0), I::mul(M[3 + i], g1)), I::mul(M[6 + i], g2));
+      s.gN[i] = I::add(s.gN[i], I::add(I::mul(Qs, gw[i]), I::mul(w, gQ[i])));
+      s.gD[i] = I::add(s.gD[i], gw[i]);
+    }
+    if constexpr (kOrder >= 2) {
+      const V six = I::set1(6.0), twelve = I::set1(12.0);
+      V h0 = I::mul(two, c[3]);
+      h0 = I::add(h0, I::mul(I::mul(six, c[6]), u));
+      h0 = I::add(h0, I::mul(I::mul(two, c[7]), v));
+      h0 = I::add(h0, I::mul(I::mul(twelve, c[10]), u2));
+      h0 = I::add(h0, I::mul(I::mul(six, c[11]), uv));
+      h0 = I::add(h0, I::mul(I::mul(two, c[12]), v2));
+      V h1 = c[4];
+      h1 = I::add(h1, I::mul(I::mul(two, c[7]), u));
+      h1 = I::add(h1, I::mul(I::mul(two, c[8]), v));
+      h1 = I::add(h1, I::mul(I::mul(three, c[11]), u2));
+      h1 = I::add(h1, I::mul(I::mul(four, c[12]), uv));
+      h1 = I::add(h1, I::mul(I::mul(three, c[13]), v2));
+      V h3 = I::mul(two, c[5]);
+      h3 = I::add(h3, I::mul(I::mul(two, c[8]), u));
+      h3 = I::add(h3, I::mul(I::mul(six, c[9]), v));
+      h3 = I::add(h3, I::mul(I::mul(two, c[12]), u2));
+      h3 = I::add(h3, I::mul(I::mul(six, c[13]), uv));
+      h3 = I::add(h3, I::mul(I::mul(twelve, c[14]), v2));
+      const V h2 = c[17], h4 = c[18], h5 = I::mul(two, c[16]);
+      const V k2 = I::sel(inner, I::zero(), I::div(I::sub(d2w, I::div(dw, r)), r2));
+      const V Hl[3][3] = {{h0, h1, h2}, {h1, h3, h4}, {h2, h4, h5}};
+      V A[3][3];
+      for (int a = 0; a < 3; ++a)
+        for (int b = 0; b < 3; ++b)
+          A[a][b] = I::add(I::add(I::mul(Hl[a][0], M[b]), I::mul(Hl[a][1], M[3 + b])), I::mul(Hl[a][2], M[6 + b]));
+      constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
+      for (int e = 0; e < 6; ++e) {
+        const int i = kI[e], k = kJ[e];
+        const V HQ = I::mul(I::add(I::add(I::mul(M[i], A[0][k]), I::mul(M[3 + i], A[1][k])), I::mul(M[6 + i], A[2][k])), invR);
+        const V Hw = I::add(i == k ? k1 : I::zero(), I::mul(I::mul(k2, d[i]), d[k]));
+        s.HN[e] = I::add(s.HN[e], I::add(I::add(I::add(I::mul(Qs, Hw), I::mul(gw[i], gQ[k])), I::mul(gQ[i], gw[k])), I::mul(w, HQ)));
+        s.HD[e] = I::add(s.HD[e], Hw);
+      }
+    }
+  }
+}
+
+template <class I, int kOrder>
+MPUMESH_SIMD_TARGET EvalOut eval_kernel(const EvalView& view, const double x[3]) {
+  EvalOut out;
+  // The lookup cell, as the reference finds it (a division by the cell size).
+  const double cell = view.box_size / double(view.dims[0]);
+  int64_t c[3];
+  for (int d = 0; d < 3; ++d) {
+    c[d] = int64_t(std::floor((x[d] - view.box_min[d]) / cell));
+    if (c[d] < 0 || c[d] >= int64_t(view.dims[d])) {
+      out.f = view.box_size;
+      return out;
+    }
+  }
+  const uint64_t cid = uint64_t(c[0]) + uint64_t(view.dims[0]) * (uint64_t(c[1]) + uint64_t(view.dims[1]) * uint64_t(c[2]));
+  const uint32_t k0 = view.offsets[cid], k1 = view.offsets[cid + 1];
+  if (k1 - k0 > kMaxCandidates) {
+    out.handled = false;
+    return out;
+  }
+  uint32_t hid[kMaxCandidates + 16];
+  int n = 0;
+  {
+    const typename I::V px = I::set1(x[0]), py = I::set1(x[1]), pz = I::set1(x[2]);
+    for (uint32_t k = k0; k < k1; k += 8)
+      n += I::support(view.spheres, view.leaf_ids + k, int(k1 - k < 8 ? k1 - k : 8), px, py, pz, hid + n);
+  }
+  if (n == 0) {
+    out.f = view.box_size;
+    return out;
+  }
+  // The reference pads its last chunk of 32 leaves to whole lanes with that chunk's
+  // first leaf, 4 R away along x (zero weight, zero terms).
+  const int padded = (n + 7) / 8 * 8, first_of_chunk = (n - 1) / 32 * 32;
+  for (int j = n; j < padded; ++j) hid[j] = hid[first_of_chunk];
+  const double pad_dx = 4 * view.leaves[size_t(hid[first_of_chunk]) * view.leaf_stride + 3];
+  Sums<I> s;
+  s.N = s.D = I::zero();
+  for (int i = 0; i < 3; ++i) s.gN[i] = s.gD[i] = I::zero();
+  for (int e = 0; e < 6; ++e) s.HN[e] = s.HD[e] = I::zero();
+  double f0 = 0;
+  for (int b = 0; b < padded; b += 8) {
+    const double* p[8];
+    for (int l = 0; l < 8; ++l) p[l] = view.leaves + size_t(hid[b + l]) * view.leaf_stride;
+    leaf_block<I, kOrder>(p, x, n - b, pad_dx, b == 0, f0, s);
+  }
+  out.leaves = n;
+  const double D = lane_total<I>(s.D);
+  if (!(D > 0)) {
+    out.f = view.box_size;
+    out.leaves = 0;
+    return out;
+  }
+  const double fs = lane_total<I>(s.N) / D;
+  out.f = f0 + fs;
+  if constexpr (kOrder >= 1) {
+    double gD[3];
+    for (int i = 0; i < 3; ++i) {
+      gD[i] = lane_total<I>(s.gD[i]);
+      out.g[i] = (lane_total<I>(s.gN[i]) - fs * gD[i]) / D;
+    }
+    if constexpr (kOrder >= 2) {
+      constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
+      for (int e = 0; e < 6; ++e) {
+        const int i = kI[e], j = kJ[e];
+        out.H[e] = (lane_total<I>(s.HN[e]) - fs * lane_total<I>(s.HD[e]) - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
+      }
+    }
+  }
+  return out;
+}
+
+template <class I>
+MPUMESH_SIMD_TARGET EvalOut eval_dispatch(const EvalView& v, const double x[3], int order) {
+  return order == 0 ? eval_kernel<I, 0>(v, x) : order == 1 ? eval_kernel<I, 1>(v, x) : eval_kernel<I, 2>(v, x);
+}
+
+}  // namespace mpumesh::mpu::simd
