@@ -1,5 +1,7 @@
 #include "mpu/local_fit.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -12,13 +14,14 @@ double bspline(double r, double R) {
   return w;
 }
 
-// The points of the ball in the scaled local frame, with their weights.
+// The points of the ball in the scaled local frame, with their weights. One per thread,
+// reused from ball to ball (the fit makes about a quarter of a million of them).
 struct Local {
   std::vector<double> u, v, w, weight;
 };
 
-Local to_local(const Ball& ball, const PointCloud& cloud, const Eigen::Matrix3d& frame) {
-  Local l;
+Local& to_local(const Ball& ball, const PointCloud& cloud, const Eigen::Matrix3d& frame) {
+  thread_local Local l;
   const size_t n = ball.ids.size();
   l.u.resize(n);
   l.v.resize(n);
@@ -44,6 +47,28 @@ Leaf make_leaf(const Ball& ball, const Eigen::Matrix3d& frame, FitKind kind) {
   leaf.kind = kind;
   leaf.points = uint32_t(ball.ids.size());
   return leaf;
+}
+
+// Σ w_i x_i y_i, summed in order. Out of line: inlined into the Gram-Schmidt loops, GCC
+// kept the running sum in memory (a store and a load on its critical path per term).
+__attribute__((noinline)) double weighted_dot(const double* w, const double* x, const double* y, size_t n) {
+  double s = 0;
+  for (size_t i = 0; i < n; ++i) s += w[i] * x[i] * y[i];
+  return s;
+}
+
+// taubin_error on the ball's points already in the leaf's frame (to_local computes them
+// with the same operations, so the result is the same).
+double taubin_error_local(const Leaf& leaf, const Local& l) {
+  double worst = 0;
+  for (size_t i = 0; i < l.u.size(); ++i) {
+    double q, g[3], h[6];
+    local_poly(leaf.coeffs.data(), l.u[i], l.v[i], l.w[i], q, g, h);
+    const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    const double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+    worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
+  }
+  return worst;
 }
 
 }  // namespace
@@ -82,27 +107,32 @@ Eigen::Matrix3d frame_from_normal(const Eigen::Vector3d& n) {
 Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen::Vector3d& normal, int degree_cap,
                           double* error) {
   const Eigen::Matrix3d frame = frame_from_normal(normal);
-  const Local l = to_local(ball, cloud, frame);
+  const Local& l = to_local(ball, cloud, frame);
   const size_t n = l.u.size();
-  const int max_terms = bivariate_terms(4);
-  auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
-    double s = 0;
-    for (size_t i = 0; i < n; ++i) s += l.weight[i] * a[i] * b[i];
-    return s;
-  };
-  // Monomial values at the points.
-  std::vector<std::vector<double>> mono(static_cast<size_t>(max_terms), std::vector<double>(n));
+  constexpr int kMaxTerms = bivariate_terms(4);
+  // Row k of `mono` is monomial k at the points; rows of `basis` are the orthogonal
+  // polynomials at the points (those of the accepted degrees, then this degree's new
+  // ones); one flat buffer per thread.
+  thread_local std::vector<double> mono_buf, basis_buf, b_buf;
+  mono_buf.resize(size_t(kMaxTerms) * n);
+  basis_buf.resize(size_t(kMaxTerms) * n);
+  b_buf.resize(n);
+  double* const mono = mono_buf.data();
+  double* const basis = basis_buf.data();
+  double* const b = b_buf.data();
+  const double* const wt = l.weight.data();
+  auto dot = [&](const double* x, const double* y) { return weighted_dot(wt, x, y, n); };
   for (size_t i = 0; i < n; ++i) {
     double m[15];
     bivariate_monomials(l.u[i], l.v[i], m);
-    for (int k = 0; k < max_terms; ++k) mono[size_t(k)][i] = m[k];
+    for (int k = 0; k < kMaxTerms; ++k) mono[size_t(k) * n + i] = m[k];
   }
   // Orthogonal basis built incrementally (modified Gram-Schmidt, twice for stability):
   // beta_j = Σ_k T[j][k] m_k; a monomial the points cannot tell from the earlier ones
   // (e.g. v² when the points lie on a line) is dropped.
-  std::vector<std::vector<double>> beta;
-  std::vector<std::array<double, 15>> T;
-  std::vector<double> norm2;  // <beta, beta>
+  std::array<std::array<double, 15>, kMaxTerms> T;
+  std::array<double, kMaxTerms> norm2;  // <beta, beta>
+  int accepted = 0;                     // basis functions of the accepted degrees
   Leaf best = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
   double best_error = std::numeric_limits<double>::infinity();
   Coeffs h{};  // the monomial coefficients of h
@@ -112,31 +142,28 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
     // Degree 2 needs its 6 terms' worth of points; a higher degree twice its terms.
     if (degree == 2 && n < 6) break;
     if (degree > 2 && double(n) < 2.0 * terms) break;
-    // This degree's new basis functions, kept aside until the degree is accepted.
-    std::vector<std::vector<double>> new_beta;
-    std::vector<std::array<double, 15>> new_T;
-    std::vector<double> new_norm2;
+    // This degree's new basis functions follow the accepted ones, until the degree is.
+    int count = accepted;
     double worst_ratio = 1;
     for (int m = k; m < terms; ++m) {
-      std::vector<double> b = mono[size_t(m)];
+      std::copy(mono + size_t(m) * n, mono + size_t(m + 1) * n, b);
       std::array<double, 15> t{};
       t[size_t(m)] = 1;
       const double start = dot(b, b);
       for (int pass = 0; pass < 2; ++pass)
-        for (size_t j = 0; j < beta.size() + new_beta.size(); ++j) {
-          const auto& bj = j < beta.size() ? beta[j] : new_beta[j - beta.size()];
-          const auto& Tj = j < beta.size() ? T[j] : new_T[j - beta.size()];
-          const double nj = j < beta.size() ? norm2[j] : new_norm2[j - beta.size()];
-          const double p = dot(b, bj) / nj;
+        for (int j = 0; j < count; ++j) {
+          const double* bj = basis + size_t(j) * n;
+          const double p = dot(b, bj) / norm2[size_t(j)];
           for (size_t i = 0; i < n; ++i) b[i] -= p * bj[i];
-          for (int c = 0; c < 15; ++c) t[size_t(c)] -= p * Tj[size_t(c)];
+          for (int c = 0; c < 15; ++c) t[size_t(c)] -= p * T[size_t(j)][size_t(c)];
         }
       const double nb = dot(b, b);
       worst_ratio = std::min(worst_ratio, start > 0 ? nb / start : 0.0);
       if (!(nb > 1e-12 * start) || !(nb > 1e-300)) continue;
-      new_beta.push_back(std::move(b));
-      new_T.push_back(t);
-      new_norm2.push_back(nb);
+      std::copy(b, b + n, basis + size_t(count) * n);
+      T[size_t(count)] = t;
+      norm2[size_t(count)] = nb;
+      ++count;
     }
     // Above degree 2, a degree is taken only when the points determine every one of its
     // terms: a monomial that is almost a combination of the lower ones over the points
@@ -146,19 +173,17 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
     constexpr double kDetermined = 0.05;
     if (degree > 2 && worst_ratio < kDetermined * kDetermined) break;
     k = terms;
-    for (size_t j = 0; j < new_beta.size(); ++j) {
-      const double coef = dot(l.w, new_beta[j]) / new_norm2[j];
-      for (int c = 0; c < 15; ++c) h[size_t(c)] += coef * new_T[j][size_t(c)];
-      beta.push_back(std::move(new_beta[j]));
-      T.push_back(new_T[j]);
-      norm2.push_back(new_norm2[j]);
+    for (int j = accepted; j < count; ++j) {
+      const double coef = dot(l.w.data(), basis + size_t(j) * n) / norm2[size_t(j)];
+      for (int c = 0; c < 15; ++c) h[size_t(c)] += coef * T[size_t(j)][size_t(c)];
     }
+    accepted = count;
     if (degree < 2) continue;
     Leaf leaf = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
     leaf.degree = uint8_t(degree);
     for (int c = 0; c < 15; ++c) leaf.coeffs[size_t(c)] = -h[size_t(c)];
     leaf.coeffs[15] = 1;  // q = w - h(u, v)
-    const double e = taubin_error(leaf, ball, cloud);
+    const double e = taubin_error_local(leaf, l);
     // A higher degree is kept only when it lowers the error by at least 10%.
     if (degree == 2 || e < 0.9 * best_error) {
       best = leaf;
@@ -173,7 +198,7 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
 
 Leaf fit_height_quadric(const Ball& ball, const PointCloud& cloud, const Eigen::Vector3d& normal, double* error) {
   const Eigen::Matrix3d frame = frame_from_normal(normal);
-  const Local l = to_local(ball, cloud, frame);
+  const Local& l = to_local(ball, cloud, frame);
   Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
   for (size_t i = 0; i < l.u.size(); ++i) {
@@ -187,7 +212,7 @@ Leaf fit_height_quadric(const Ball& ball, const PointCloud& cloud, const Eigen::
   Leaf leaf = make_leaf(ball, frame, FitKind::kHeightQuadric);
   for (int c = 0; c < 6; ++c) leaf.coeffs[size_t(c)] = -x[c];
   leaf.coeffs[15] = 1;
-  *error = x.allFinite() ? taubin_error(leaf, ball, cloud) : std::numeric_limits<double>::infinity();
+  *error = x.allFinite() ? taubin_error_local(leaf, l) : std::numeric_limits<double>::infinity();
   return leaf;
 }
 
@@ -196,7 +221,7 @@ Leaf fit_general_quadric(const Ball& ball, const PointCloud& cloud, const std::v
   // Unknowns: terms 0-5 and 15-18 of the basis, in the identity frame.
   static constexpr int kIdx[10] = {0, 1, 2, 3, 4, 5, 15, 16, 17, 18};
   const Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
-  const Local l = to_local(ball, cloud, frame);
+  const Local& l = to_local(ball, cloud, frame);
   const size_t n = l.u.size();
   Eigen::MatrixXd A(Eigen::Index(n + aux.size()), 10);
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(A.rows());
@@ -223,7 +248,7 @@ Leaf fit_general_quadric(const Ball& ball, const PointCloud& cloud, const std::v
   const Eigen::Matrix<double, 10, 1> x = AtA.selfadjointView<Eigen::Lower>().ldlt().solve(Atb);
   Leaf leaf = make_leaf(ball, frame, FitKind::kGeneralQuadric);
   for (int c = 0; c < 10; ++c) leaf.coeffs[size_t(kIdx[c])] = x[c];
-  *error = (x.allFinite() && !aux.empty()) ? taubin_error(leaf, ball, cloud) : std::numeric_limits<double>::infinity();
+  *error = (x.allFinite() && !aux.empty()) ? taubin_error_local(leaf, l) : std::numeric_limits<double>::infinity();
   return leaf;
 }
 
