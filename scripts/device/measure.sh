@@ -27,7 +27,7 @@ if [[ $step == all || $step == run ]]; then
       -o /tmp/ct_$be.ply --report "$OUT/run_$be.json" 2>"$OUT/run_$be.time" | tail -3
     grep -E 'Elapsed|Maximum resident' "$OUT/run_$be.time"
   done
-  $B/bin/mpumesh_bench_run $ct 226 40000 2.6 0.36 2>&1 | tee "$OUT/bench_run.txt"
+  $B/bin/mpumesh_bench_run $ct 226 40000 3.4 0.72 2>&1 | tee "$OUT/bench_run.txt"
 fi
 if [[ $step == all || $step == render ]]; then
   # The HTML report made on the GPU, and the renderer's time on both backends.

@@ -160,7 +160,7 @@ int main(int argc, char** argv) {
   const TriangleMesh poly = mpu::polygonize(surf, 0, cpu);
   const double t_poly = sec_since(t);
 
-  const bench::Mesh3Result cg = bench::cgal_mesh3(vol, mc_mesh, m3);
+  const bench::Mesh3Result cg = bench::cgal_mesh3(vol, m3);
   std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g, %lld initial points, %.2f s\n",
               m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg.initial_points, cg.seconds);
 
