@@ -2,8 +2,8 @@
 // points (bone at 226 HU), every backend measured in the same run. Prints the fit time
 // and leaf count for both local fits, |f| at the input points, and the evaluation
 // throughput (points per second with f, ∇f, H and curvature) for 10^6 points near the
-// surface: the CPU path, then each Vulkan device (kernel timestamps and wall time, with
-// the ratio to the CPU path). Usage:
+// surface: the CPU path (the widest instruction set, then the others), then each Vulkan
+// device (kernel timestamps and wall time, with the ratio to the CPU path). Usage:
 //   mpumesh_bench_mpu [VOLUME] [THRESHOLD] [QUERY_POINTS] [REPEATS]
 #include <fmt/format.h>
 
@@ -15,6 +15,7 @@
 #include "compute/cpu_backend.h"
 #include "io/volume_io.h"
 #include "kernels/mpu_eval_vk.h"
+#include "mpu/mpu_eval_simd.h"
 #include "mpu/mpu_fit.h"
 #include "points/slice_points.h"
 #include "segment/segmentation.h"
@@ -95,7 +96,24 @@ int main(int argc, char** argv) {
       t.push_back(sec_since(t0));
     }
     const double cpu_s = median(t);
-    fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>10}\n", cpu.device(), cpu_s, double(queries) / cpu_s, "1.00x");
+    fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>10}\n", cpu.device() + ", " + mpu::eval_path_name(mpu::eval_path()),
+               cpu_s, double(queries) / cpu_s, "1.00x");
+    // The CPU path's other instruction sets (core/mpu/mpu_eval_simd.h), same points.
+    const mpu::EvalPath chosen = mpu::eval_path();
+    for (auto path : {mpu::EvalPath::kAvx512, mpu::EvalPath::kAvx2, mpu::EvalPath::kGeneric}) {
+      if (path == chosen || !mpu::eval_path_supported(path)) continue;
+      mpu::set_eval_path(path);
+      std::vector<double> tp;
+      for (int r = 0; r < repeats; ++r) {
+        const auto t0 = Clock::now();
+        cpu.mpu_eval(surface, q);
+        tp.push_back(sec_since(t0));
+      }
+      const double s_path = median(tp);
+      fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>9.2f}x\n", cpu.device() + ", " + mpu::eval_path_name(path), s_path,
+                 double(queries) / s_path, cpu_s / s_path);
+    }
+    mpu::set_eval_path(chosen);
     for (const auto& d : vk::list_devices()) {
       vk::ContextOptions opt;
       opt.device_index = d.index;
