@@ -140,21 +140,38 @@ std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const 
   // Kept points per cell, as singly linked lists.
   std::vector<int32_t> head(size_t(dims[0] * dims[1] * dims[2]), -1), next;
   std::vector<size_t> kept;
+  // The 27 cells around a point, its own first: most points are refused (on the sample
+  // CT about two in three), and the conflict is most often in their own cell. (The order
+  // changes only how soon a conflict is found, not whether.)
+  int offsets[27][3];
+  {
+    int m = 0;
+    offsets[m][0] = offsets[m][1] = offsets[m][2] = 0;
+    ++m;
+    for (int z = -1; z <= 1; ++z)
+      for (int y = -1; y <= 1; ++y)
+        for (int x = -1; x <= 1; ++x)
+          if (x || y || z) {
+            offsets[m][0] = x, offsets[m][1] = y, offsets[m][2] = z;
+            ++m;
+          }
+  }
   for (uint32_t i : order) {
     const Eigen::Vector3d& p = pts[i];
     const int64_t c[3] = {cell_of(p, 0), cell_of(p, 1), cell_of(p, 2)};
     bool free = true;
-    for (int64_t z = std::max<int64_t>(c[2] - 1, 0); free && z <= std::min(c[2] + 1, dims[2] - 1); ++z)
-      for (int64_t y = std::max<int64_t>(c[1] - 1, 0); free && y <= std::min(c[1] + 1, dims[1] - 1); ++y)
-        for (int64_t x = std::max<int64_t>(c[0] - 1, 0); free && x <= std::min(c[0] + 1, dims[0] - 1); ++x)
-          for (int32_t k = head[size_t(x + dims[0] * (y + dims[1] * z))]; k >= 0; k = next[size_t(k)]) {
-            const size_t j = kept[size_t(k)];
-            const double r = 0.5 * (radius[i] + radius[j]);
-            if ((pts[j] - p).squaredNorm() < r * r) {
-              free = false;
-              break;
-            }
-          }
+    for (int m = 0; free && m < 27; ++m) {
+      const int64_t x = c[0] + offsets[m][0], y = c[1] + offsets[m][1], z = c[2] + offsets[m][2];
+      if (x < 0 || y < 0 || z < 0 || x >= dims[0] || y >= dims[1] || z >= dims[2]) continue;
+      for (int32_t k = head[size_t(x + dims[0] * (y + dims[1] * z))]; k >= 0; k = next[size_t(k)]) {
+        const size_t j = kept[size_t(k)];
+        const double r = 0.5 * (radius[i] + radius[j]);
+        if ((pts[j] - p).squaredNorm() < r * r) {
+          free = false;
+          break;
+        }
+      }
+    }
     if (!free) continue;
     const size_t cidx = size_t(c[0] + dims[0] * (c[1] + dims[1] * c[2]));
     next.push_back(head[cidx]);
