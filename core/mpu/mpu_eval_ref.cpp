@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include "common/error.h"
+#include "common/simd_level.h"
 #include "mpu/mpu_eval_simd.h"
 
 #include <algorithm>
@@ -139,11 +140,11 @@ Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
   Sample out;
   // The vector paths (mpu_eval_simd.h) give this function's bytes, with fewer
   // instructions; they decline only lookup cells of more candidates than they buffer.
-  if (const EvalPath path = eval_path(); path != EvalPath::kGeneric) {
+  if (const SimdLevel level = simd_level(); level != SimdLevel::kGeneric) {
     MPUMESH_ASSERT(s.grid.spheres.size() == s.leaves.size(), "MPU surface without its sphere index");
     const simd::EvalView view = simd::make_view(s);
-    const simd::EvalOut o = path == EvalPath::kAvx512 ? simd::evaluate_avx512(view, x.data(), kOrder)
-                                                      : simd::evaluate_avx2(view, x.data(), kOrder);
+    const simd::EvalOut o = level == SimdLevel::kAvx512 ? simd::evaluate_avx512(view, x.data(), kOrder)
+                                                        : simd::evaluate_avx2(view, x.data(), kOrder);
     if (o.handled) {
       out.f = o.f;
       out.leaves = o.leaves;

@@ -8,6 +8,7 @@
 // reference copies each leaf field by field into structure-of-arrays form, 29 scalar
 // moves a leaf, where the vector paths load a leaf in four 8-double loads and transpose
 // eight leaves in registers; and the support test runs on eight candidates at once.
+// common/simd_level.h picks the path (MPUMESH_SIMD=generic|avx2|avx512).
 // (Gathers were tried and dropped: an 8-double gather costs about 23 cycles on the
 // machines here, slower than the scalar copy.)
 //
@@ -22,17 +23,6 @@
 namespace mpumesh::mpu {
 
 struct MpuSurface;
-
-enum class EvalPath { kGeneric, kAvx2, kAvx512 };
-
-const char* eval_path_name(EvalPath p);
-// Whether this CPU (and this build) can run the path; kGeneric always.
-bool eval_path_supported(EvalPath p);
-// The path evaluate(), evaluate_fg() and evaluate_f() take: the widest supported one, or
-// the one named by MPUMESH_EVAL_PATH (generic, avx2, avx512) when set and supported.
-EvalPath eval_path();
-// For tests and benchmarks: use `p` from now on (it must be supported).
-void set_eval_path(EvalPath p);
 
 namespace simd {
 

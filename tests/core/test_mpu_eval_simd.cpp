@@ -1,4 +1,5 @@
-// The MPU evaluation's vector paths (core/mpu/mpu_eval_simd.h) against the generic
+// The MPU evaluation's vector paths (core/mpu/mpu_eval_simd.h, one per SimdLevel of
+// common/simd_level.h) against the generic
 // reference (core/mpu/mpu_eval_ref.cpp): the same bytes for f, ∇f, the Hessian and the
 // leaf count, on fitted phantoms (a sphere, a slice-stacked ellipsoid, a torus), at
 // random points on, near, far from and outside the surface, with each of the three
@@ -9,6 +10,7 @@
 #include <cstring>
 #include <random>
 
+#include "common/simd_level.h"
 #include "mpu/mpu_eval_ref.h"
 #include "mpu/mpu_eval_simd.h"
 #include "mpu/mpu_fit.h"
@@ -17,12 +19,10 @@
 namespace mpumesh {
 namespace {
 
-using mpu::EvalPath;
-
-// Restores the evaluation path when a test ends.
-struct PathGuard {
-  EvalPath saved = mpu::eval_path();
-  ~PathGuard() { mpu::set_eval_path(saved); }
+// Restores the vector level when a test ends.
+struct LevelGuard {
+  SimdLevel saved = simd_level();
+  ~LevelGuard() { set_simd_level(saved); }
 };
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
@@ -55,13 +55,13 @@ std::vector<Eigen::Vector3d> query_points(const PointCloud& c, const mpu::MpuSur
 
 // Evaluates every query with every order on `path` and on the reference; returns the
 // count of differing results, and sets `leaves` to the mean leaves per inside query.
-int64_t mismatches(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& q, EvalPath path, double* leaves) {
+int64_t mismatches(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& q, SimdLevel path, double* leaves) {
   int64_t bad = 0, held = 0, sum = 0;
   for (const auto& x : q) {
-    mpu::set_eval_path(EvalPath::kGeneric);
+    set_simd_level(SimdLevel::kGeneric);
     const mpu::Sample r2 = mpu::evaluate(s, x), r1 = mpu::evaluate_fg(s, x);
     const double r0 = mpu::evaluate_f(s, x);
-    mpu::set_eval_path(path);
+    set_simd_level(path);
     const mpu::Sample v2 = mpu::evaluate(s, x), v1 = mpu::evaluate_fg(s, x);
     const double v0 = mpu::evaluate_f(s, x);
     bad += !same_sample(r2, v2) || !same_sample(r1, v1) || !same_bits(r0, v0);
@@ -74,12 +74,12 @@ int64_t mismatches(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>&
   return bad;
 }
 
-class EvalPathTest : public ::testing::TestWithParam<EvalPath> {};
+class MpuEvalSimd : public ::testing::TestWithParam<SimdLevel> {};
 
-TEST_P(EvalPathTest, GivesTheReferenceBytesOnPhantoms) {
-  const EvalPath path = GetParam();
-  if (!mpu::eval_path_supported(path)) GTEST_SKIP() << mpu::eval_path_name(path) << " is not supported on this CPU";
-  PathGuard guard;
+TEST_P(MpuEvalSimd, GivesTheReferenceBytesOnPhantoms) {
+  const SimdLevel path = GetParam();
+  if (!simd_level_supported(path)) GTEST_SKIP() << simd_level_name(path) << " is not supported on this CPU";
+  LevelGuard guard;
   struct Case {
     const char* name;
     test::AnalyticShape shape;
@@ -102,15 +102,15 @@ TEST_P(EvalPathTest, GivesTheReferenceBytesOnPhantoms) {
     double leaves = 0;
     const int64_t bad = mismatches(s, q, path, &leaves);
     std::printf("%s, %s: %zu leaves, %zu queries (%.1f leaves each where held), %lld differ\n",
-                mpu::eval_path_name(path), c.name, s.leaves.size(), q.size(), leaves, (long long)bad);
+                simd_level_name(path), c.name, s.leaves.size(), q.size(), leaves, (long long)bad);
     EXPECT_EQ(bad, 0) << c.name;
   }
 }
 
-TEST_P(EvalPathTest, FallsBackToTheReferenceOnCrowdedCells) {
-  const EvalPath path = GetParam();
-  if (!mpu::eval_path_supported(path)) GTEST_SKIP() << mpu::eval_path_name(path) << " is not supported on this CPU";
-  PathGuard guard;
+TEST_P(MpuEvalSimd, FallsBackToTheReferenceOnCrowdedCells) {
+  const SimdLevel path = GetParam();
+  if (!simd_level_supported(path)) GTEST_SKIP() << simd_level_name(path) << " is not supported on this CPU";
+  LevelGuard guard;
   // A lookup grid of 2 x 2 x 2 cells over a thin spherical shell (1 mm thick: fitted
   // down to small leaves): each cell lists more leaves than the kernels buffer, so they
   // decline and the reference answers.
@@ -125,16 +125,16 @@ TEST_P(EvalPathTest, FallsBackToTheReferenceOnCrowdedCells) {
   EXPECT_EQ(mismatches(s, query_points(cloud, s, 3), path, &leaves), 0);
 }
 
-INSTANTIATE_TEST_SUITE_P(Paths, EvalPathTest, ::testing::Values(EvalPath::kAvx2, EvalPath::kAvx512),
-                         [](const auto& info) { return std::string(mpu::eval_path_name(info.param)); });
+INSTANTIATE_TEST_SUITE_P(Levels, MpuEvalSimd, ::testing::Values(SimdLevel::kAvx2, SimdLevel::kAvx512),
+                         [](const auto& info) { return std::string(simd_level_name(info.param)); });
 
-TEST(EvalPath, TheWidestSupportedIsTaken) {
-  // Unless MPUMESH_EVAL_PATH names another, the default is the widest this CPU runs.
-  if (std::getenv("MPUMESH_EVAL_PATH")) GTEST_SKIP() << "MPUMESH_EVAL_PATH is set";
-  const EvalPath expect = mpu::eval_path_supported(EvalPath::kAvx512) ? EvalPath::kAvx512
-                          : mpu::eval_path_supported(EvalPath::kAvx2) ? EvalPath::kAvx2
-                                                                       : EvalPath::kGeneric;
-  EXPECT_EQ(mpu::eval_path(), expect) << mpu::eval_path_name(mpu::eval_path());
+TEST(SimdLevel, TheWidestSupportedIsTaken) {
+  // Unless MPUMESH_SIMD names another, the default is the widest this CPU runs.
+  if (std::getenv("MPUMESH_SIMD")) GTEST_SKIP() << "MPUMESH_SIMD is set";
+  const SimdLevel expect = simd_level_supported(SimdLevel::kAvx512) ? SimdLevel::kAvx512
+                          : simd_level_supported(SimdLevel::kAvx2) ? SimdLevel::kAvx2
+                                                                       : SimdLevel::kGeneric;
+  EXPECT_EQ(simd_level(), expect) << simd_level_name(simd_level());
 }
 
 }  // namespace

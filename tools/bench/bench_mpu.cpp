@@ -15,7 +15,7 @@
 #include "compute/cpu_backend.h"
 #include "io/volume_io.h"
 #include "kernels/mpu_eval_vk.h"
-#include "mpu/mpu_eval_simd.h"
+#include "common/simd_level.h"
 #include "mpu/mpu_fit.h"
 #include "points/slice_points.h"
 #include "segment/segmentation.h"
@@ -96,13 +96,13 @@ int main(int argc, char** argv) {
       t.push_back(sec_since(t0));
     }
     const double cpu_s = median(t);
-    fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>10}\n", cpu.device() + ", " + mpu::eval_path_name(mpu::eval_path()),
+    fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>10}\n", cpu.device() + ", " + simd_level_name(simd_level()),
                cpu_s, double(queries) / cpu_s, "1.00x");
     // The CPU path's other instruction sets (core/mpu/mpu_eval_simd.h), same points.
-    const mpu::EvalPath chosen = mpu::eval_path();
-    for (auto path : {mpu::EvalPath::kAvx512, mpu::EvalPath::kAvx2, mpu::EvalPath::kGeneric}) {
-      if (path == chosen || !mpu::eval_path_supported(path)) continue;
-      mpu::set_eval_path(path);
+    const SimdLevel chosen = simd_level();
+    for (auto path : {SimdLevel::kAvx512, SimdLevel::kAvx2, SimdLevel::kGeneric}) {
+      if (path == chosen || !simd_level_supported(path)) continue;
+      set_simd_level(path);
       std::vector<double> tp;
       for (int r = 0; r < repeats; ++r) {
         const auto t0 = Clock::now();
@@ -110,10 +110,10 @@ int main(int argc, char** argv) {
         tp.push_back(sec_since(t0));
       }
       const double s_path = median(tp);
-      fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>9.2f}x\n", cpu.device() + ", " + mpu::eval_path_name(path), s_path,
+      fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>9.2f}x\n", cpu.device() + ", " + simd_level_name(path), s_path,
                  double(queries) / s_path, cpu_s / s_path);
     }
-    mpu::set_eval_path(chosen);
+    set_simd_level(chosen);
     for (const auto& d : vk::list_devices()) {
       vk::ContextOptions opt;
       opt.device_index = d.index;
