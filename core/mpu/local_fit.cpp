@@ -58,13 +58,44 @@ __attribute__((noinline)) double weighted_dot(const double* w, const double* x, 
 }
 
 // taubin_error on the ball's points already in the leaf's frame (to_local computes them
-// with the same operations, so the result is the same).
+// with the same operations), from the terms the leaf can have: a height field of degree d
+// the first bivariate_terms(d) and w (coefficient 1), a general quadric terms 0-5 and
+// 15-18. The other terms only add ±0 to local_poly's sums, so |q| and |∇q|, hence the
+// error, are its to the bit; the sums below are in its order.
 double taubin_error_local(const Leaf& leaf, const Local& l) {
+  const double* c = leaf.coeffs.data();
+  const bool general = leaf.kind == FitKind::kGeneralQuadric;
+  const int degree = general ? 2 : std::clamp<int>(leaf.degree, 1, 4);
   double worst = 0;
   for (size_t i = 0; i < l.u.size(); ++i) {
-    double q, g[3], h[6];
-    local_poly(leaf.coeffs.data(), l.u[i], l.v[i], l.w[i], q, g, h);
-    const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+    const double u = l.u[i], v = l.v[i], w = l.w[i];
+    const double u2 = u * u, v2 = v * v, uv = u * v;
+    double q = c[0] + c[1] * u + c[2] * v, g0 = c[1], g1 = c[2], g2;
+    if (degree >= 2) {
+      q = q + c[3] * u2 + c[4] * uv + c[5] * v2;
+      g0 = g0 + 2 * c[3] * u + c[4] * v;
+      g1 = g1 + c[4] * u + 2 * c[5] * v;
+    }
+    if (degree >= 3) {
+      q = q + c[6] * u2 * u + c[7] * u2 * v + c[8] * u * v2 + c[9] * v2 * v;
+      g0 = g0 + 3 * c[6] * u2 + 2 * c[7] * uv + c[8] * v2;
+      g1 = g1 + c[7] * u2 + 2 * c[8] * uv + 3 * c[9] * v2;
+    }
+    if (degree >= 4) {
+      q = q + c[10] * u2 * u2 + c[11] * u2 * uv + c[12] * u2 * v2 + c[13] * uv * v2 + c[14] * v2 * v2;
+      g0 = g0 + 4 * c[10] * u2 * u + 3 * c[11] * u2 * v + 2 * c[12] * u * v2 + c[13] * v2 * v;
+      g1 = g1 + c[11] * u2 * u + 2 * c[12] * u2 * v + 3 * c[13] * u * v2 + 4 * c[14] * v2 * v;
+    }
+    if (general) {
+      q = q + c[15] * w + c[16] * w * w + c[17] * u * w + c[18] * v * w;
+      g0 = g0 + c[17] * w;
+      g1 = g1 + c[18] * w;
+      g2 = c[15] + 2 * c[16] * w + c[17] * u + c[18] * v;
+    } else {
+      q = q + c[15] * w;
+      g2 = c[15];
+    }
+    const double gn = std::sqrt(g0 * g0 + g1 * g1 + g2 * g2);
     const double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
     worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
   }

@@ -132,7 +132,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     // k-d tree's (which breaks such ties its own way, and has always decided them).
     thread_local BallSearch::Near near;
     thread_local std::vector<uint32_t> six;
-    if (search.nearest_strict(q, 6, 1.5 * min_radius, near, six)) {
+    if (search.nearest_strict(q, 6, min_radius, near, six) || search.nearest_strict(q, 6, 1.5 * min_radius, near, six)) {
       std::copy(six.begin(), six.end(), idx);
       rs.init(idx, d2);
       for (size_t j = 0; j < 6; ++j) rs.addPoint(near.points[j].first, six[j]);
