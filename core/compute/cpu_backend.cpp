@@ -43,8 +43,11 @@ std::vector<mpu::EvalRow> CpuBackend::mpu_eval(const mpu::MpuSurface& s, const s
 
 std::vector<double> CpuBackend::mpu_f(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
   std::vector<double> f(points.size());
+  // In cache order: the triangulation asks for f at Voronoi vertices in the order of
+  // CGAL's cells.
+  const std::vector<size_t> order = mpu::cache_order(s, points);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) f[i] = mpu::evaluate_f(s, points[i]);
+    for (size_t o = r.begin(); o != r.end(); ++o) f[order[o]] = mpu::evaluate_f(s, points[order[o]]);
   });
   return f;
 }

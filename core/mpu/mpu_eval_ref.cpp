@@ -260,25 +260,29 @@ Curvature curvature(const Eigen::Vector3d& g, const Eigen::Matrix3d& H) {
   return c;
 }
 
-std::vector<EvalRow> evaluate_all(const MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
-  std::vector<EvalRow> rows(points.size());
-  // Points are visited in the order of their lookup-grid cell, so that consecutive points
-  // share their leaves in the cache (a surface of 10^5 leaves is tens of MB; in random
-  // order each leaf read missed the cache).
-  std::vector<std::pair<uint64_t, size_t>> order(points.size());
+std::vector<size_t> cache_order(const MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<std::pair<uint64_t, size_t>> key(points.size());
   const double inv_cell = 1.0 / s.cell_size();
   const auto& dims = s.grid.dims;
   for (size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3d rel = (points[i] - s.box_min) * inv_cell;
-    uint64_t key = 0;
+    uint64_t k = 0;
     for (int d = 2; d >= 0; --d)
-      key = key * (dims[size_t(d)] + 1) + uint64_t(std::clamp(rel[d], -1.0, double(dims[size_t(d)])) + 1);
-    order[i] = {key, i};
+      k = k * (dims[size_t(d)] + 1) + uint64_t(std::clamp(rel[d], -1.0, double(dims[size_t(d)])) + 1);
+    key[i] = {k, i};
   }
-  std::sort(order.begin(), order.end());
+  std::sort(key.begin(), key.end());
+  std::vector<size_t> order(points.size());
+  for (size_t o = 0; o < order.size(); ++o) order[o] = key[o].second;
+  return order;
+}
+
+std::vector<EvalRow> evaluate_all(const MpuSurface& s, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<EvalRow> rows(points.size());
+  const std::vector<size_t> order = cache_order(s, points);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t o = r.begin(); o != r.end(); ++o) {
-      const size_t i = order[o].second;
+      const size_t i = order[o];
       const Sample e = evaluate(s, points[i]);
       const Curvature c = curvature(e.g, e.H);
       EvalRow& row = rows[i];

@@ -31,6 +31,11 @@ Sample evaluate_fg(const MpuSurface& s, const Eigen::Vector3d& x);
 double evaluate_f(const MpuSurface& s, const Eigen::Vector3d& x);
 Curvature curvature(const Eigen::Vector3d& g, const Eigen::Matrix3d& H);
 
+// The points' indices in the order of their lookup-grid cells: evaluated in that order,
+// consecutive points share their leaves in the cache (a surface of 10^5 leaves is tens of
+// MB; in random order each leaf read misses it). The results do not depend on the order.
+std::vector<size_t> cache_order(const MpuSurface& s, const std::vector<Eigen::Vector3d>& points);
+
 // Many points, in parallel: one row per point, x y z f gx gy gz k1 k2 K H (the layout of
 // `mpumesh eval`).
 struct EvalRow {
