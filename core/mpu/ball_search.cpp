@@ -96,9 +96,12 @@ double BallSearch::kth_distance2(const Eigen::Vector3d& q, size_t k, double star
     collect(q, r, near);
     if (near.points.size() >= k) break;
   }
-  auto kth = near.points.begin() + ptrdiff_t(k - 1);
-  std::nth_element(near.points.begin(), kth, near.points.end());
-  return kth->first;
+  // On a copy: `near` stays in the grid's order (see ball()).
+  thread_local std::vector<double> d2;
+  d2.resize(near.points.size());
+  for (size_t j = 0; j < d2.size(); ++j) d2[j] = near.points[j].first;
+  std::nth_element(d2.begin(), d2.begin() + ptrdiff_t(k - 1), d2.end());
+  return d2[k - 1];
 }
 
 bool BallSearch::nearest_strict(const Eigen::Vector3d& q, size_t k, double radius, Near& near,

@@ -20,13 +20,15 @@ class BallSearch {
   // coarser where it would exceed 2^21 cells.
   BallSearch(const std::vector<Eigen::Vector3d>& pts, double cell);
 
-  // Appends to `out` the ids of the points with |p - q|² < r2, in no particular order.
+  // Appends to `out` the ids of the points with |p - q|² < r2, in the grid's order (cells
+  // by z, y, x, then the points of a cell by id): one order for every query, whatever its
+  // radius.
   void ball(const Eigen::Vector3d& q, double r2, std::vector<uint32_t>& out) const;
 
   // The points within a radius of q, with their squared distances: what the searches
   // below collect, and what a grown ball is then taken from.
   struct Near {
-    std::vector<std::pair<double, uint32_t>> points;  // (|p - q|², id)
+    std::vector<std::pair<double, uint32_t>> points;  // (|p - q|², id), in the grid's order
     double radius = 0;                                // every point within it is listed
   };
 

@@ -223,7 +223,9 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
         search.ball(ball.centre, r2, ball.ids);
       }
     }
-    std::sort(ball.ids.begin(), ball.ids.end());  // the fit must not depend on search order
+    // The ids are in the ball search's grid order, the same for every query: the fit does
+    // not depend on which search found them, nor on the threads. (Sorting them by id,
+    // until this commit, was 5% of the fit.)
     const bool away = grown && 4 * initial < size_t(opt.nmin);
     // The local fit of a ball (the kind chosen from its normals).
     auto fit_ball = [&](const Ball& b) {
