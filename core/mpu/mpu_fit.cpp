@@ -381,12 +381,21 @@ void build_lookup_grid(MpuSurface& s, uint32_t n) {
       lo[d] = std::clamp<int64_t>(int64_t(std::floor(a[d])), 0, n - 1);
       hi[d] = std::clamp<int64_t>(int64_t(std::floor(b[d])), 0, n - 1);
     }
+    // The squared distance from the centre to the cell's closest point is a sum of one
+    // term per axis: each term is computed once per row and column, as the box test
+    // computed it per cell (the same bits: the same grid).
+    auto axis_term = [&](int d, int64_t i) {
+      const double c = l.centre[d], lo_d = s.box_min[d] + cell * double(i);
+      const double q = std::min(std::max(c, lo_d), lo_d + cell);
+      return (q - c) * (q - c);
+    };
+    double tx[1024], ty[1024];
+    for (int64_t x = lo[0]; x <= hi[0]; ++x) tx[x - lo[0]] = axis_term(0, x);
+    for (int64_t y = lo[1]; y <= hi[1]; ++y) ty[y - lo[1]] = axis_term(1, y);
+    const double tz = axis_term(2, z), r2 = l.radius * l.radius;
     for (int64_t y = lo[1]; y <= hi[1]; ++y)
-      for (int64_t x = lo[0]; x <= hi[0]; ++x) {
-        const Eigen::Vector3d cmin = s.box_min + cell * Eigen::Vector3d(double(x), double(y), double(z));
-        const Eigen::Vector3d q = l.centre.cwiseMax(cmin).cwiseMin(cmin + Eigen::Vector3d::Constant(cell));
-        if ((q - l.centre).squaredNorm() < l.radius * l.radius) fn(size_t(x + n * (y + n * z)));
-      }
+      for (int64_t x = lo[0]; x <= hi[0]; ++x)
+        if (tx[x - lo[0]] + ty[y - lo[1]] + tz < r2) fn(size_t(x + n * (y + n * z)));
   };
   // The leaves of each z slice (ascending), then count and fill (CSR) slice by slice in
   // parallel, so that leaf ids stay in ascending order per cell.
