@@ -126,15 +126,4 @@ MPUMESH_SIMD_TARGET EvalOut evaluate_avx2(const EvalView& v, const double x[3], 
 
 }  // namespace mpumesh::mpu::simd
 
-#else
-
-#include "common/error.h"
-
-namespace mpumesh::mpu::simd {
-EvalOut evaluate_avx2(const EvalView&, const double*, int) {
-  MPUMESH_ASSERT(false, "the AVX2 evaluation path is not built for this target");
-  return {};
-}
-}  // namespace mpumesh::mpu::simd
-
-#endif
+#endif  // x86-64 (elsewhere mpu_eval_simd.cpp defines the entry point)

@@ -39,3 +39,18 @@ EvalView make_view(const MpuSurface& s) {
 
 }  // namespace simd
 }  // namespace mpumesh::mpu
+
+#if !(defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)))
+// Without x86-64 vector units only the generic path runs (simd_level_supported), so these
+// are never called.
+namespace mpumesh::mpu::simd {
+EvalOut evaluate_avx512(const EvalView&, const double*, int) {
+  MPUMESH_ASSERT(false, "the AVX-512 evaluation path is not built for this target");
+  return {};
+}
+EvalOut evaluate_avx2(const EvalView&, const double*, int) {
+  MPUMESH_ASSERT(false, "the AVX2 evaluation path is not built for this target");
+  return {};
+}
+}  // namespace mpumesh::mpu::simd
+#endif
