@@ -107,9 +107,10 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     hi = hi.cwiseMax(p);
   }
   const double extent = std::max((hi - lo).maxCoeff(), 1e-6);
-  // Balls and growth on a grid of cells about the smallest ball; the k-d tree answers the
-  // auxiliary points' nearest-six queries, whose ties it breaks its own way. On the
-  // sample CT the grid took the fit from 3.75 to 3.48 s, with the same .mpu bytes.
+  // Balls, growth and the auxiliary points' six nearest on a grid of cells about the
+  // smallest ball (ball_search.h); the k-d tree keeps the large balls of the coarse levels
+  // and the six nearest where the grid finds ties or too few points. (On the sample CT the
+  // grid alone took the fit from 3.75 to 3.48 s, with the same .mpu bytes.)
   const BallSearch search(cloud.positions, std::max(min_radius, 1e-3 * extent));
   MpuSurface s;
   s.box_size = extent * (1 + 2 * opt.margin);
@@ -133,7 +134,6 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     thread_local BallSearch::Near near;
     thread_local std::vector<uint32_t> six;
     if (search.nearest_strict(q, 6, min_radius, near, six) || search.nearest_strict(q, 6, 1.5 * min_radius, near, six)) {
-      std::copy(six.begin(), six.end(), idx);
       rs.init(idx, d2);
       for (size_t j = 0; j < 6; ++j) rs.addPoint(near.points[j].first, six[j]);
     } else {
@@ -191,12 +191,12 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     const size_t initial = ball.ids.size();
     if (int(initial) < opt.nmin) {
       // The ball grows by λ R until it holds nmin points: until R² exceeds the squared
-      // distance of the nmin-th nearest point (the search counts d² < R²). One k-th
-      // distance instead of a search per step.
-      // For the small balls of the deep levels, on the grid, starting where a surface
-      // through the ball would hold nmin points (they grow as the radius squared); the
-      // k-d tree's search for the large balls of the coarse ones, where the grid would
-      // collect thousands of points to find 30.
+      // distance of the nmin-th nearest point (the search counts d² < R²), one k-th
+      // distance instead of a search per step. For the small balls of the deep levels it
+      // comes from the grid, searched from where a surface through the ball would hold
+      // nmin points (they grow as the radius squared); for the large balls of the coarse
+      // ones from the k-d tree, where the grid would collect thousands of points to find
+      // 30.
       thread_local BallSearch::Near near;
       near.points.clear();
       near.radius = 0;
