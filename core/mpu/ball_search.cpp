@@ -50,6 +50,9 @@ BallSearch::BallSearch(const std::vector<Eigen::Vector3d>& pts, double cell) {
 
 template <class Fn>
 void BallSearch::for_runs(const Eigen::Vector3d& q, double r, Fn&& fn) const {
+  // A little wider than r, so that rounding in q ± r can never leave out the cell of a
+  // point on the sphere (the callers' distance tests decide; extra cells only cost).
+  r = r * (1 + 1e-9) + 1e-12;
   int64_t a[3], b[3];
   for (int d = 0; d < 3; ++d) {
     const double u0 = std::floor((q[d] - r - lo_[d]) * inv_cell_), u1 = std::floor((q[d] + r - lo_[d]) * inv_cell_);
