@@ -31,7 +31,7 @@ EvalView make_view(const MpuSurface& s) {
   v.box_size = s.box_size;
   v.offsets = s.grid.offsets.data();
   v.leaf_ids = s.grid.leaf_ids.data();
-  v.spheres = s.grid.spheres.data()->data();
+  v.spheres = s.grid.spheres.empty() ? nullptr : s.grid.spheres.front().data();
   v.leaves = reinterpret_cast<const double*>(s.leaves.data());
   v.leaf_stride = uint32_t(sizeof(Leaf) / sizeof(double));
   return v;
