@@ -18,7 +18,7 @@ const char* simd_level_name(SimdLevel l) {
 }
 
 bool simd_level_supported(SimdLevel l) {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if MPUMESH_X86_SIMD
   switch (l) {
     case SimdLevel::kAvx512:
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") &&

@@ -5,6 +5,14 @@
 // as the generic code; the levels differ in speed only.
 #pragma once
 
+// Where the AVX2 and AVX-512 kernels are built (x86-64, GCC or clang target attributes);
+// elsewhere only the generic code runs.
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#define MPUMESH_X86_SIMD 1
+#else
+#define MPUMESH_X86_SIMD 0
+#endif
+
 namespace mpumesh {
 
 enum class SimdLevel { kGeneric, kAvx2, kAvx512 };

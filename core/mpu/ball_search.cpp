@@ -67,27 +67,30 @@ void BallSearch::for_runs(const Eigen::Vector3d& q, double r, Fn&& fn) const {
     }
 }
 
-void BallSearch::ball(const Eigen::Vector3d& q, double r2, std::vector<uint32_t>& out) const {
+template <class Fn>
+void BallSearch::for_distances(const Eigen::Vector3d& q, double r, Fn&& fn) const {
   const double qx = q.x(), qy = q.y(), qz = q.z();
-  for_runs(q, std::sqrt(r2), [&](uint32_t first, uint32_t last) {
+  for_runs(q, r, [&](uint32_t first, uint32_t last) {
     for (uint32_t k = first; k < last; ++k) {
       // (q - p)² summed x, y, z, as nanoflann's L2 metric does.
       const double dx = qx - x_[k], dy = qy - y_[k], dz = qz - z_[k];
-      if (dx * dx + dy * dy + dz * dz < r2) out.push_back(id_[k]);
+      fn(dx * dx + dy * dy + dz * dz, id_[k]);
     }
   });
 }
 
+void BallSearch::ball(const Eigen::Vector3d& q, double r2, std::vector<uint32_t>& out) const {
+  for_distances(q, std::sqrt(r2), [&](double d2, uint32_t id) {
+    if (d2 < r2) out.push_back(id);
+  });
+}
+
 void BallSearch::collect(const Eigen::Vector3d& q, double r, Near& near) const {
-  const double qx = q.x(), qy = q.y(), qz = q.z(), r2 = r * r;
+  const double r2 = r * r;
   near.points.clear();
   near.radius = r;
-  for_runs(q, r, [&](uint32_t first, uint32_t last) {
-    for (uint32_t j = first; j < last; ++j) {
-      const double dx = qx - x_[j], dy = qy - y_[j], dz = qz - z_[j];
-      const double s = dx * dx + dy * dy + dz * dz;
-      if (s <= r2) near.points.push_back({s, id_[j]});
-    }
+  for_distances(q, r, [&](double d2, uint32_t id) {
+    if (d2 <= r2) near.points.push_back({d2, id});
   });
 }
 

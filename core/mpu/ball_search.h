@@ -48,7 +48,10 @@ class BallSearch {
   // [q - r, q + r] touches.
   template <class Fn>
   void for_runs(const Eigen::Vector3d& q, double r, Fn&& fn) const;
-  // Fills `near` with every point within r of q (and perhaps some a little beyond).
+  // Calls fn(|p - q|², id) for the points of those runs, in the grid's order.
+  template <class Fn>
+  void for_distances(const Eigen::Vector3d& q, double r, Fn&& fn) const;
+  // Fills `near` with every point within r of q.
   void collect(const Eigen::Vector3d& q, double r, Near& near) const;
 
   Eigen::Vector3d lo_;

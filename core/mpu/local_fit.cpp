@@ -182,7 +182,7 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
     bivariate_monomials(l.u[i], l.v[i], m);
     for (int k = 0; k < kMaxTerms; ++k) mono[size_t(k) * n + i] = m[k];
   }
-  // Orthogonal basis built incrementally (modified Gram-Schmidt, twice for stability):
+  // Orthogonal basis built incrementally (classical Gram-Schmidt, twice, below):
   // beta_j = Σ_k T[j][k] m_k; a monomial the points cannot tell from the earlier ones
   // (e.g. v² when the points lie on a line) is dropped.
   std::array<std::array<double, 15>, kMaxTerms> T;

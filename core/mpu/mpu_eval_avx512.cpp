@@ -4,9 +4,10 @@
 
 #include <cstdint>
 
+#include "common/simd_level.h"
 #include "mpu/mpu_eval_simd.h"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if MPUMESH_X86_SIMD
 
 #define MPUMESH_SIMD_TARGET __attribute__((target("avx512f,avx512vl,avx512dq,avx512bw")))
 

@@ -1,6 +1,7 @@
 #include "mpu/mpu_eval_simd.h"
 
 #include "common/error.h"
+#include "common/simd_level.h"
 #include "mpu/mpu_surface.h"
 
 namespace mpumesh::mpu {
@@ -40,7 +41,7 @@ EvalView make_view(const MpuSurface& s) {
 }  // namespace simd
 }  // namespace mpumesh::mpu
 
-#if !(defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)))
+#if !MPUMESH_X86_SIMD
 // Without x86-64 vector units only the generic path runs (simd_level_supported), so these
 // are never called.
 namespace mpumesh::mpu::simd {

@@ -20,7 +20,7 @@ uint32_t within_generic(const double* x, const double* y, const double* z, const
   return n;
 }
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if MPUMESH_X86_SIMD
 
 // (Only intrinsics and plain arithmetic below: no template is instantiated under these
 // targets.) std::max(s2, σ²) is σ² where s2 < σ², else s2: a compare and a blend, not
@@ -79,7 +79,7 @@ __attribute__((target("avx2"))) uint32_t within_avx2(const double* x, const doub
 uint32_t pairs_within(const CandidateSoa& a, uint32_t k0, uint32_t k1, const double q[3], double s2, double c2,
                       uint32_t* out, SimdLevel level) {
   const double *x = a.x.data(), *y = a.y.data(), *z = a.z.data(), *sg = a.sigma.data();
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#if MPUMESH_X86_SIMD
   if (level == SimdLevel::kAvx512) return within_avx512(x, y, z, sg, k0, k1, q, s2, c2, out);
   if (level == SimdLevel::kAvx2) return within_avx2(x, y, z, sg, k0, k1, q, s2, c2, out);
 #endif

@@ -141,7 +141,6 @@ void repulsion_step(ParticleState& st, const ParticleGrids& grids, const StepPar
               const double sj = st.sigma[j], inv_sj2 = 1.0 / (sj * sj);
               const double rx = xi.x() - st.x[j].x(), ry = xi.y() - st.x[j].y(), rz = xi.z() - st.x[j].z();
               const double r2 = rx * rx + ry * ry + rz * rz;
-              if (r2 >= c2 * std::max(si * si, sj * sj)) continue;  // (the filter's own test)
               // Each term cut at its own particle's cutoff; j == i gives r = 0 and adds
               // 2μ to E, which is taken off below (branchless here).
               const double eij = r2 < c2 * si * si ? p.mu * std::exp(-0.5 * r2 * inv_si2) : 0.0;
