@@ -120,11 +120,13 @@ std::vector<uint32_t> hashed_order(size_t n, uint32_t seed) {
   return order;
 }
 
-// Greedy Poisson-disk subset, visiting the points in `order`: a point is kept when no
-// kept point lies closer than the mean of their two radii. Returns the kept indices,
-// ascending.
+// Greedy Poisson-disk subset: a point is kept when no kept point lies closer than the
+// mean of their two radii. The points are visited block by block (blocks of 4³ cells, in
+// row order), each block's points in `order`: in `order` alone every visit went to a
+// random place in the grid and the points (on the sample CT 615 ns a point, 0.5 s of the
+// seeding), block by block they stay in cache. Returns the kept indices, ascending.
 std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& radius,
-                                 const std::vector<uint32_t>& order) {
+                                 const std::vector<uint32_t>& order_in) {
   const double rmax = *std::max_element(radius.begin(), radius.end());
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
   for (const auto& p : pts) {
@@ -137,6 +139,19 @@ std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const 
   std::array<int64_t, 3> dims;
   for (int d = 0; d < 3; ++d) dims[size_t(d)] = int64_t((hi[d] - lo[d]) / cell) + 1;
   auto cell_of = [&](const Eigen::Vector3d& p, int d) { return int64_t((p[d] - lo[d]) / cell); };
+  std::vector<uint32_t> order(order_in.size());
+  {  // stable counting sort of order_in by block
+    constexpr int64_t kBlock = 4;
+    const int64_t bx = dims[0] / kBlock + 1, by = dims[1] / kBlock + 1, bz = dims[2] / kBlock + 1;
+    std::vector<uint32_t> block(order_in.size()), start(size_t(bx * by * bz) + 1, 0);
+    for (size_t k = 0; k < order_in.size(); ++k) {
+      const Eigen::Vector3d& p = pts[order_in[k]];
+      block[k] = uint32_t(cell_of(p, 0) / kBlock + bx * (cell_of(p, 1) / kBlock + by * (cell_of(p, 2) / kBlock)));
+      ++start[block[k] + 1];
+    }
+    for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
+    for (size_t k = 0; k < order_in.size(); ++k) order[start[block[k]]++] = order_in[k];
+  }
   // Kept points per cell, as singly linked lists.
   std::vector<int32_t> head(size_t(dims[0] * dims[1] * dims[2]), -1), next;
   std::vector<size_t> kept;
