@@ -38,7 +38,7 @@ namespace {
 // `iterations_flag`: "--iterations" for sample, "--particle-iterations" for run (where
 // --iterations is Chan-Vese's).
 void add_sample_options(CLI::App* cmd, particles::SampleOptions& o, const std::string& iterations_flag) {
-  cmd->add_option("--particles", o.particles, "about this many particles (0: from --spacing; both 0: 30000)")
+  cmd->add_option("--particles", o.particles, "about this many particles (0: from --spacing; both 0: 40000)")
       ->capture_default_str();
   cmd->add_option("--spacing", o.spacing, "particle spacing on flat parts (mm); overrides --particles")
       ->capture_default_str();
