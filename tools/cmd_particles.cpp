@@ -103,6 +103,7 @@ nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
   return {{"particles", st.particles},
           {"repair_points", st.repair_points},
           {"repair_rounds", st.repair_rounds},
+          {"repair_crossings_merged", st.repair_merged},
           {"wide_facets_refined", st.wide_facets},
           {"unused_particles", st.unused_points},
           {"sheet_points", st.sheet_points},

@@ -36,6 +36,8 @@ struct RestrictedDelaunayStats {
   int64_t wide_facets = 0;     // facets far wider than the sampling around them (an
                                // unsampled sheet under them) given their crossing as a point
   int64_t unused_points = 0;   // given points on no restricted facet (dropped)
+  int64_t repair_merged = 0;   // repair crossings left out: within 5% of their ball's radius
+                               // of one inserted just before them (the same missing point)
   int64_t sheet_points = 0;    // repair points put on the far side of a thin plate that a
                                // particle's Voronoi cell held whole (lost sheets)
   int64_t spurious_components = 0;  // made of repair points only (no particle or sheet

@@ -171,6 +171,27 @@ TEST(Cli, ReportOfAnyMeshOpensInABrowser) {
   expect_report_renders(dir + "/r.html", dir + "/r.png", 6, 3);
 }
 
+// The manifold repair does not insert two crossings that stand for one missing point. On
+// the sample CT fitted with ε0 = 0.347 mm it once put two repair points 3 µm apart, whose
+// triangles (0.20° and 0.40°) neither the collapses nor the relaxation could mend; now the
+// second is left out (restricted_delaunay.cpp, kRepairMerge) and no angle is under the 15°
+// that issue 5 asks for.
+TEST(Cli, RepairMergesTwinCrossingsOnTheSampleCt) {
+  MPUMESH_SAMPLE_CT_OR_SKIP(ct);
+  const std::string dir = test::temp_dir("twin-ct");
+  const Result r = run("run " + ct + " --threshold 226 --eps 0.347 -o " + dir + "/skull.ply --report " + dir +
+                       "/report.json --backend cpu --no-self-intersections --quiet");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(read_file(dir + "/report.json"));
+  std::printf("smallest angle %.2f deg, %lld repair points, %lld crossings merged\n",
+              j["quality"]["min_angle_deg"]["min"].get<double>(), (long long)j["triangulation"]["repair_points"].get<int64_t>(),
+              (long long)j["triangulation"]["repair_crossings_merged"].get<int64_t>());
+  EXPECT_GE(j["quality"]["min_angle_deg"]["min"].get<double>(), 15.0);
+  EXPECT_GT(j["triangulation"]["repair_crossings_merged"].get<int64_t>(), 0);
+  EXPECT_TRUE(j["quality"]["closed"].get<bool>());
+  EXPECT_TRUE(j["quality"]["manifold"].get<bool>());
+}
+
 // The whole job on the real head CT (bone at 226 HU): a closed, oriented manifold without
 // self-intersections, every stage timed.
 TEST(Cli, RunOnTheSampleCt) {
