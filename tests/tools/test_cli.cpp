@@ -171,25 +171,32 @@ TEST(Cli, ReportOfAnyMeshOpensInABrowser) {
   expect_report_renders(dir + "/r.html", dir + "/r.png", 6, 3);
 }
 
-// The manifold repair does not insert two crossings that stand for one missing point. On
-// the sample CT fitted with ε0 = 0.347 mm it once put two repair points 3 µm apart, whose
-// triangles (0.20° and 0.40°) neither the collapses nor the relaxation could mend; now the
-// second is left out (restricted_delaunay.cpp, kRepairMerge) and no angle is under the 15°
-// that issue 5 asks for.
-TEST(Cli, RepairMergesTwinCrossingsOnTheSampleCt) {
+// The repair's points make no needles on the sample CT, at two ε0 that once did (at the
+// default ε0 neither case arose):
+// - 0.347 mm: two repair crossings 3 µm apart (triangles of 0.20° and 0.40° that neither
+//   the collapses nor the relaxation could mend); now the second is left out
+//   (restricted_delaunay.cpp, kRepairMerge; repair_crossings_merged);
+// - 0.2 mm: a lost sheet's point 1e-10 mm from its particle, which lay where ∇f nearly
+//   vanishes, on no sheet (two 0° triangles); now such a particle gets none
+//   (opposite_sheet).
+// No angle is under the 15° that issue 5 asks for.
+TEST(Cli, RepairMakesNoNeedlesOnTheSampleCt) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);
-  const std::string dir = test::temp_dir("twin-ct");
-  const Result r = run("run " + ct + " --threshold 226 --eps 0.347 -o " + dir + "/skull.ply --report " + dir +
-                       "/report.json --backend cpu --no-self-intersections --quiet");
-  ASSERT_EQ(r.code, 0) << r.out;
-  const auto j = nlohmann::json::parse(read_file(dir + "/report.json"));
-  std::printf("smallest angle %.2f deg, %lld repair points, %lld crossings merged\n",
-              j["quality"]["min_angle_deg"]["min"].get<double>(), (long long)j["triangulation"]["repair_points"].get<int64_t>(),
-              (long long)j["triangulation"]["repair_crossings_merged"].get<int64_t>());
-  EXPECT_GE(j["quality"]["min_angle_deg"]["min"].get<double>(), 15.0);
-  EXPECT_GT(j["triangulation"]["repair_crossings_merged"].get<int64_t>(), 0);
-  EXPECT_TRUE(j["quality"]["closed"].get<bool>());
-  EXPECT_TRUE(j["quality"]["manifold"].get<bool>());
+  const std::string dir = test::temp_dir("needles-ct");
+  for (const char* eps : {"0.347", "0.2"}) {
+    const Result r = run("run " + ct + " --threshold 226 --eps " + eps + " -o " + dir + "/skull.ply --report " + dir +
+                         "/report.json --backend cpu --no-self-intersections --quiet");
+    ASSERT_EQ(r.code, 0) << r.out;
+    const auto j = nlohmann::json::parse(read_file(dir + "/report.json"));
+    const auto& tr = j["triangulation"];
+    std::printf("eps %s mm: smallest angle %.2f deg, %lld repair points (%lld sheet points), %lld crossings merged\n",
+                eps, j["quality"]["min_angle_deg"]["min"].get<double>(), (long long)tr["repair_points"].get<int64_t>(),
+                (long long)tr["sheet_points"].get<int64_t>(), (long long)tr["repair_crossings_merged"].get<int64_t>());
+    EXPECT_GE(j["quality"]["min_angle_deg"]["min"].get<double>(), 15.0) << "eps " << eps;
+    EXPECT_GT(tr["repair_crossings_merged"].get<int64_t>(), 0);
+    EXPECT_TRUE(j["quality"]["closed"].get<bool>());
+    EXPECT_TRUE(j["quality"]["manifold"].get<bool>());
+  }
 }
 
 // The whole job on the real head CT (bone at 226 HU): a closed, oriented manifold without
