@@ -543,7 +543,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   // its facet's ball (0: none): a point closer than kRepairMerge of that radius to one
   // inserted before it in the same call is left out, both crossings standing for one
   // missing point. (Two groups' largest facets can have Voronoi edges that cross f = 0 at
-  // nearly one place; on the sample CT fitted with ε0 = 0.35 mm two repair points 3 µm
+  // nearly one place; on the sample CT fitted with ε0 = 0.347 mm two repair points 3 µm
   // apart made triangles of 0.2° and 0.4° that neither collapse nor relaxation could mend.
   // A point left out is found again in the next round if it is still needed.)
   constexpr double kRepairMerge = 0.05;
