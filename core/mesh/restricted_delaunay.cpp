@@ -306,7 +306,7 @@ std::vector<std::pair<uint32_t, double>> oversized_facets(const std::vector<RFac
 // near within the data's box.
 std::optional<Eigen::Vector3d> opposite_sheet(const mpu::MpuSurface& s, const Eigen::Vector3d& p, double reach) {
   const mpu::Sample e = mpu::evaluate_fg(s, p);
-  const Eigen::Vector3d g = e.g;
+  const Eigen::Vector3d& g = e.g;
   if (!(g.norm() > 0) || !(reach > 0)) return std::nullopt;
   // p must lie on f = 0 (|f| / |∇f| within 5% of the reach), and the search starts past
   // its own sheet (twice that distance, at least 0.1% of the reach): a particle left where

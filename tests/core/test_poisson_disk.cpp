@@ -54,8 +54,8 @@ void expect_disk_sample(const Cloud& c, const std::vector<size_t>& keep) {
 }
 
 TEST(PoissonDisk, KeepsAMaximalDiskSample) {
-  // 40 mm sphere, radii 1-3 mm: the grid's cells are 3 mm, its blocks 12 mm, so the
-  // sample spans many blocks and conflicts cross their borders.
+  // 40 mm sphere, radii 1-3 mm: the grid's cells are 3 mm (27 a side), its blocks of 16³
+  // cells 48 mm (2 a side), so conflicts cross the blocks' borders.
   const Cloud c = sphere_cloud(6000, 40.0, 1.0, 3.0, 5);
   const std::vector<size_t> keep = particles::poisson_disk(c.x, c.r, particles::hashed_order(c.x.size(), 1));
   std::printf("%zu of %zu points kept\n", keep.size(), c.x.size());
