@@ -37,7 +37,9 @@ void write_json_file(const nlohmann::json& j, const std::string& path) { write_f
 
 nlohmann::json stage_json(const Progress& p) {
   nlohmann::json s = nlohmann::json::object();
-  for (const auto& [name, sec] : p.stage_seconds()) s[name] = sec;
+  // A stage run more than once (run's particles and triangulation, when it raises the
+  // count) reports its total.
+  for (const auto& [name, sec] : p.stage_seconds()) s[name] = s.value(name, 0.0) + sec;
   return s;
 }
 

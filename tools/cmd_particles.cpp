@@ -234,6 +234,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
     particles::SampleOptions sample;
     BackendOptions backend;
     bool self_intersections = true;
+    int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand(
@@ -250,6 +251,11 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
   add_segment_options(cmd, o->seg);
   add_fit_options(cmd, o->fit, o->local_fit);
   add_sample_options(cmd, o->sample, "--particle-iterations");
+  cmd->add_option("--count-retries", o->count_retries,
+                  "when the triangulation needs repair points for more than a tenth of the particles (too sparse a "
+                  "sample for the surface's thin plates), sample again with 1.5 times the particles, up to this many "
+                  "times; default 2 when neither --particles nor --spacing is given, 0 when one is")
+      ->check(CLI::Range(0, 8));
   add_backend_options(cmd, o->backend);
   add_common(cmd, common);
   cmd->callback([&common, &action, o] {
@@ -323,17 +329,58 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       mpu::FitStats fit_stats;
       const mpu::MpuSurface s = mpu::fit_mpu(cloud, o->fit, &fit_stats);
       progress.end();
-      progress.begin("particles");
+      // Particles and triangulation, again with 1.5 times the particles while the
+      // triangulation shows the sample too sparse (see `sparse` below) and retries are left.
+      // (The first sample keeps the default's own rules, see sample_surface.)
+      particles::SampleOptions so = o->sample;
+      int retries = o->count_retries >= 0 ? o->count_retries : (o->sample.particles == 0 && o->sample.spacing == 0 ? 2 : 0);
+      // Too sparse a sample for the surface's thin plates shows as many repair points, and
+      // its triangles next to them are poor: on the sample CT 4-5% at 40,000 particles
+      // (smallest angle 20°), 16% at 30,000 (1.2% of triangles under 30°), 36% at full
+      // resolution at 40,000 (10.6°; 3% and 20.2° at 60,000, 1.5 times the count).
+      auto sparse = [](const RestrictedDelaunayStats& t, size_t particles) {
+        return particles > 0 && t.repair_points > int64_t(particles) / 10;
+      };
+      auto denser = [](particles::SampleOptions x) {
+        if (x.spacing > 0)
+          x.spacing /= std::sqrt(1.5);
+        else
+          x.particles = ((x.particles > 0 ? x.particles : particles::kDefaultParticles) * 3 / 2 + 999) / 1000 * 1000;
+        return x;
+      };
       particles::SampleStats sst;
-      const particles::ParticleState ps =
-          particles::sample_surface(s, cloud.positions, o->sample, *choice.backend, &sst);
-      // The particle kernels' device times, before a later stage's kernels replace them.
-      const std::map<std::string, double> particle_kernel_ms = choice.backend->kernel_ms();
-      progress.end();
-      progress.begin("triangulate");
+      particles::ParticleState ps;
+      std::map<std::string, double> particle_kernel_ms;
       RestrictedDelaunayStats tst;
-      TriangleMesh mesh = restricted_delaunay(s, ps.x, &tst, 0, choice.backend.get());
-      progress.end();
+      TriangleMesh mesh;
+      nlohmann::json raises = nlohmann::json::array();
+      for (;;) {
+        progress.begin("particles");
+        ps = particles::sample_surface(s, cloud.positions, so, *choice.backend, &sst);
+        // The particle kernels' device times, before a later stage's kernels replace them.
+        particle_kernel_ms = choice.backend->kernel_ms();
+        progress.end();
+        progress.begin("triangulate");
+        tst = RestrictedDelaunayStats{};
+        mesh = restricted_delaunay(s, ps.x, &tst, 0, choice.backend.get());
+        progress.end();
+        if (!sparse(tst, ps.size()) || retries == 0) break;
+        --retries;
+        const particles::SampleOptions next = denser(so);
+        raises.push_back({{"requested_particles", so.particles},
+                          {"requested_spacing_mm", so.spacing},
+                          {"particles", ps.size()},
+                          {"repair_points", tst.repair_points}});
+        if (!common.json && !common.quiet)
+          std::cout << fmt::format("note: {} repair points for {} particles, too sparse a sample: sampling again "
+                                   "with {}\n",
+                                   tst.repair_points, ps.size(),
+                                   next.spacing > 0 ? fmt::format("spacing {:.3f} mm", next.spacing)
+                                                    : fmt::format("{} particles", next.particles));
+        so = next;
+        check_memory(o->input, estimate_run_bytes(voxels, int64_t(cloud.size()),
+                                                  so.particles > 0 ? so.particles : int64_t(ps.size())));
+      }
       const Topology topo = analyze_topology(mesh);
       if (!topo.closed || !topo.oriented)
         throw InputError(fmt::format("{}: the triangulation is not a closed oriented manifold ({} border edges, {} "
@@ -350,8 +397,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       write_mesh(mesh, o->output);
       progress.end();
       j["fit"] = fit_json(o->fit, fit_stats);
-      j["particles"] = sample_json(o->sample, sst, ps);
+      j["particles"] = sample_json(so, sst, ps);
       j["particles"]["kernel_ms"] = particle_kernel_ms;
+      j["particles"]["count_raises"] = raises;
       j["triangulation"] = triangulation_json(tst);
       j["backend"] = backend_json(choice);
       j["kernel_ms"] = choice.backend->kernel_ms();
@@ -370,15 +418,11 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                     << " particles (" << choice.backend->device() << ")\n"
                     << quality_to_text(q);
       }
-      // Too sparse a sample for the surface's thin plates shows as many repair points, and
-      // its triangles next to them are poor: on the sample CT 4-5% at 40,000 particles
-      // (smallest angle 20°), 16% at 30,000 (1.2% of triangles under 30°), 36% at full
-      // resolution at 40,000 (10.6°; 3% and 20.2° at 60,000, 1.5 times the count).
       j["notes"] = nlohmann::json::array();
-      if (tst.repair_points > int64_t(ps.size()) / 10 && ps.size() > 0) {
-        const std::string more =
-            o->sample.spacing > 0 ? fmt::format("--spacing {:.2f}", o->sample.spacing / std::sqrt(1.5))
-                                  : fmt::format("--particles {}", (asked * 3 / 2 + 999) / 1000 * 1000);
+      if (sparse(tst, ps.size())) {
+        const particles::SampleOptions more_opt = denser(so);
+        const std::string more = more_opt.spacing > 0 ? fmt::format("--spacing {:.2f}", more_opt.spacing)
+                                                      : fmt::format("--particles {}", more_opt.particles);
         const std::string note = fmt::format(
             "the triangulation added {} repair points to {} particles ({:.0f}%): the particles are too sparse for "
             "this surface's thin plates, and the triangles next to repair points are poor; 1.5 times as many "

@@ -223,7 +223,9 @@ TEST(Cli, RunOnTheSampleCt) {
   EXPECT_GT(j["triangles"].get<int64_t>(), 30000);
   EXPECT_GT(q["components"].get<int64_t>(), 10);  // the skull's separate bones
   // 20,000 particles are too few for the skull's plates (14,824 repair points at 19,827
-  // particles): the run says so, and how many to ask for.
+  // particles): the run says so, and how many to ask for. Asked for a count, it keeps it.
+  EXPECT_EQ(j["particles"]["count_raises"].size(), 0u);
+  EXPECT_EQ(j["particles"]["requested_particles"].get<int64_t>(), 20000);
   ASSERT_EQ(j["notes"].size(), 1u) << j.dump();
   EXPECT_NE(j["notes"][0].get<std::string>().find("--particles 30000"), std::string::npos) << j["notes"][0];
   const auto& tr = j["triangulation"];
@@ -244,6 +246,43 @@ TEST(Cli, RunOnTheSampleCt) {
   // particles) before the particles were kept within reach of the data and components
   // that no particle holds were removed; now 5.2 mm (a fragment of 8 MC triangles).
   EXPECT_LT(d["max"].get<double>(), 10.0);
+}
+
+// Asked for no count, run raises the default when the triangulation shows the sample too
+// sparse. Thinner plates (a thickness factor of 1.5 instead of 1) make the default 40,000
+// too few on the sample CT: 10,650 repair points for 40,387 particles, 1.9% of the
+// triangles under 30° and a mean radius ratio of 0.905 when kept. Raised to 60,000: 5,720
+// repair points for 59,638 particles, smallest angle 20.0°, 0.67% under 30°.
+TEST(Cli, RunRaisesTheDefaultCountOnTheSampleCt) {
+  MPUMESH_SAMPLE_CT_OR_SKIP(ct);
+  const std::string dir = test::temp_dir("run-raise");
+  const Result r = run("run " + ct + " --threshold 226 --thickness-factor 1.5 -o " + dir + "/skull.ply --report " +
+                       dir + "/report.json --no-self-intersections --backend cpu");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("sampling again with 60000 particles"), std::string::npos) << r.out;
+  const auto j = nlohmann::json::parse(read_file(dir + "/report.json"));
+  const auto& raises = j["particles"]["count_raises"];
+  ASSERT_EQ(raises.size(), 1u) << j["particles"].dump();
+  EXPECT_EQ(raises[0]["requested_particles"].get<int64_t>(), 0);  // the default
+  EXPECT_GT(raises[0]["repair_points"].get<int64_t>(), raises[0]["particles"].get<int64_t>() / 10);
+  EXPECT_EQ(j["particles"]["requested_particles"].get<int64_t>(), 60000);
+  const int64_t particles = j["particles"]["particles"].get<int64_t>();
+  EXPECT_NEAR(double(particles), 60000, 6000);
+  EXPECT_LE(j["triangulation"]["repair_points"].get<int64_t>(), particles / 10);
+  EXPECT_EQ(j["notes"].size(), 0u) << j["notes"].dump();
+  const auto& q = j["quality"];
+  EXPECT_TRUE(q["closed"].get<bool>());
+  EXPECT_TRUE(q["oriented"].get<bool>());
+  EXPECT_GE(q["min_angle_deg"]["min"].get<double>(), 15.0);
+  EXPECT_LE(q["pct_min_angle_below"]["30"].get<double>(), 1.0);
+  // --count-retries 0 keeps the default count, and says what to ask for instead.
+  const Result r0 = run("run " + ct + " --threshold 226 --thickness-factor 1.5 --count-retries 0 -o " + dir +
+                        "/skull0.ply --no-self-intersections --backend cpu --json");
+  ASSERT_EQ(r0.code, 0) << r0.out;
+  const auto j0 = nlohmann::json::parse(r0.out);
+  EXPECT_EQ(j0["particles"]["count_raises"].size(), 0u);
+  ASSERT_EQ(j0["notes"].size(), 1u);
+  EXPECT_NE(j0["notes"][0].get<std::string>().find("--particles 60000"), std::string::npos) << j0["notes"][0];
 }
 
 // Remeshing: a marching-cubes-like mesh of a sphere (an icosphere) in, an adaptive closed
