@@ -323,7 +323,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
         }
       }
       j["points"] = cloud.size();
-      const uint64_t estimate = estimate_run_bytes(voxels, int64_t(cloud.size()), asked);
+      uint64_t estimate = estimate_run_bytes(voxels, int64_t(cloud.size()), asked);
       check_memory(o->input, estimate);
       progress.begin("fit");
       mpu::FitStats fit_stats;
@@ -333,7 +333,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       // triangulation shows the sample too sparse (see `sparse` below) and retries are left.
       // (The first sample keeps the default's own rules, see sample_surface.)
       particles::SampleOptions so = o->sample;
-      int retries = o->count_retries >= 0 ? o->count_retries : (o->sample.particles == 0 && o->sample.spacing == 0 ? 2 : 0);
+      const bool count_given = o->sample.particles > 0 || o->sample.spacing > 0;
+      int retries = o->count_retries >= 0 ? o->count_retries : count_given ? 0 : 2;
       // Too sparse a sample for the surface's thin plates shows as many repair points, and
       // its triangles next to them are poor: on the sample CT 4-5% at 40,000 particles
       // (smallest angle 20°), 16% at 30,000 (1.2% of triangles under 30°), 36% at full
@@ -378,8 +379,12 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                                    next.spacing > 0 ? fmt::format("spacing {:.3f} mm", next.spacing)
                                                     : fmt::format("{} particles", next.particles));
         so = next;
-        check_memory(o->input, estimate_run_bytes(voxels, int64_t(cloud.size()),
-                                                  so.particles > 0 ? so.particles : int64_t(ps.size())));
+        // (By spacing, the count grows by the same 1.5.)
+        estimate = estimate_run_bytes(voxels, int64_t(cloud.size()),
+                                      so.particles > 0 ? so.particles : int64_t(ps.size()) * 3 / 2);
+        check_memory(o->input, estimate);
+        mesh = TriangleMesh{};
+        ps = particles::ParticleState{};
       }
       const Topology topo = analyze_topology(mesh);
       if (!topo.closed || !topo.oriented)
