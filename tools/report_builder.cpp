@@ -129,6 +129,15 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   std::string intro = "mpumesh " + report::escape_html(MPUMESH_VERSION);
   if (run.contains("backend")) intro += "; device: " + report::escape_html(fmt_num(run["backend"].value("device", "")));
   page.paragraph(intro);
+  // What run changed on its own, and what it advises: first in the page.
+  if (run.contains("particles") && run["particles"].is_object())
+    for (const auto& r : run["particles"].value("count_raises", nlohmann::json::array()))
+      page.paragraph(report::escape_html(fmt::format(
+          "The particle count was raised: {} repair points for {} particles showed too sparse a sample for the "
+          "surface's thin plates, so the particles were sampled again with 1.5 times as many.",
+          r.value("repair_points", int64_t(0)), r.value("particles", int64_t(0)))));
+  for (const auto& n : run.value("notes", nlohmann::json::array()))
+    if (n.is_string()) page.paragraph("Note: " + report::escape_html(n.get<std::string>()));
   if (run.contains("input")) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& [k, v] : run["input"].items()) rows.push_back({k, fmt_num(v)});

@@ -211,7 +211,9 @@ TEST(Cli, RunOnTheSampleCt) {
   // The HTML report in a real browser: 4 renders and the 3 panels of the Fig. 4 region (ours,
   // marching cubes, original MPU); the two histograms, the adaptivity plot, the stage times.
   const std::string html = read_file(dir + "/report.html");
-  for (const char* want : {"marching cubes", "original MPU", "Cranium.inv3", "Time by stage", "curvature_scale"})
+  // (The note on too sparse a sample, below, is on the page too.)
+  for (const char* want :
+       {"marching cubes", "original MPU", "Cranium.inv3", "Time by stage", "curvature_scale", "Note: the triangulation added"})
     EXPECT_NE(html.find(want), std::string::npos) << want;
   if (std::system("command -v chromium >/dev/null 2>&1") == 0 || test::env_flag("MPUMESH_REQUIRE_BROWSER"))
     expect_report_renders(dir + "/report.html", dir + "/report.png", 7, 4);
@@ -275,6 +277,11 @@ TEST(Cli, RunRaisesTheDefaultCountOnTheSampleCt) {
   EXPECT_TRUE(q["oriented"].get<bool>());
   EXPECT_GE(q["min_angle_deg"]["min"].get<double>(), 15.0);
   EXPECT_LE(q["pct_min_angle_below"]["30"].get<double>(), 1.0);
+  // The HTML report says so first.
+  const Result rr =
+      run("report " + dir + "/skull.ply -o " + dir + "/r.html --run-report " + dir + "/report.json --quiet");
+  ASSERT_EQ(rr.code, 0) << rr.out;
+  EXPECT_NE(read_file(dir + "/r.html").find("The particle count was raised"), std::string::npos);
   // --count-retries 0 keeps the default count, and says what to ask for instead.
   const Result r0 = run("run " + ct + " --threshold 226 --thickness-factor 1.5 --count-retries 0 -o " + dir +
                         "/skull0.ply --no-self-intersections --backend cpu --json");
