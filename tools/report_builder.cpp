@@ -129,15 +129,22 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   std::string intro = "mpumesh " + report::escape_html(MPUMESH_VERSION);
   if (run.contains("backend")) intro += "; device: " + report::escape_html(fmt_num(run["backend"].value("device", "")));
   page.paragraph(intro);
-  // What run changed on its own, and what it advises: first in the page.
-  if (run.contains("particles") && run["particles"].is_object())
-    for (const auto& r : run["particles"].value("count_raises", nlohmann::json::array()))
-      page.paragraph(report::escape_html(fmt::format(
-          "The particle count was raised: {} repair points for {} particles showed too sparse a sample for the "
-          "surface's thin plates, so the particles were sampled again with 1.5 times as many.",
-          r.value("repair_points", int64_t(0)), r.value("particles", int64_t(0)))));
-  for (const auto& n : run.value("notes", nlohmann::json::array()))
-    if (n.is_string()) page.paragraph("Note: " + report::escape_html(n.get<std::string>()));
+  // What run changed on its own, and what it advises: first in the page. (A run report
+  // given to `mpumesh report` may be any JSON: only the expected shapes are read.)
+  const auto count = [](const nlohmann::json& r, const char* key) {
+    return r.contains(key) && r[key].is_number_integer() ? r[key].get<int64_t>() : int64_t(0);
+  };
+  if (run.is_object() && run.contains("particles") && run["particles"].is_object() &&
+      run["particles"].contains("count_raises") && run["particles"]["count_raises"].is_array())
+    for (const auto& r : run["particles"]["count_raises"])
+      if (r.is_object())
+        page.paragraph(report::escape_html(fmt::format(
+            "The particle count was raised: {} repair points for {} particles showed too sparse a sample for the "
+            "surface's thin plates, so the particles were sampled again with 1.5 times as many.",
+            count(r, "repair_points"), count(r, "particles"))));
+  if (run.is_object() && run.contains("notes") && run["notes"].is_array())
+    for (const auto& n : run["notes"])
+      if (n.is_string()) page.paragraph("Note: " + report::escape_html(n.get<std::string>()));
   if (run.contains("input")) {
     std::vector<std::vector<std::string>> rows;
     for (const auto& [k, v] : run["input"].items()) rows.push_back({k, fmt_num(v)});
