@@ -19,6 +19,7 @@
 #include <unordered_map>
 
 #include "common/error.h"
+#include "common/kd_tree.h"
 #include "common/lap_timer.h"
 #include "compute/compute_backend.h"
 #include "mesh/cgal_geometry.h"
@@ -662,13 +663,33 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   }
 
   stats.seconds_repair += timer.lap();
-  {  // components that no particle holds (see sampled_components)
+  {  // components that no particle holds, or mostly off the sample (see sampled_components)
     std::vector<std::array<uint32_t, 3>> tris(facets.size());
     for (size_t f = 0; f < facets.size(); ++f) tris[f] = facets[f].v;
-    const std::vector<char> keep =
-        sampled_components(tris, points.size() + repair.size(),
-                           [&](uint32_t id) { return id < points.size() || is_sheet[id - points.size()]; },
-                           &stats.spurious_components);
+    // Off the sample: a repair point farther than kOffSample particle spacings from every
+    // particle (the particle system's reach off the data is 4 pool radii, data_support.h).
+    constexpr double kOffSample = 4;
+    std::vector<char> off(repair.size(), 0);
+    if (!repair.empty()) {
+      PointsAdaptor adaptor{&points};
+      KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+      tree.buildIndex();
+      const double reach = kOffSample * median_spacing(points, tree, 1);
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, repair.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t k = r.begin(); k != r.end(); ++k) {
+          uint32_t idx;
+          double d2;
+          nanoflann::KNNResultSet<double, uint32_t> rs(1);
+          rs.init(&idx, &d2);
+          tree.findNeighbors(rs, repair[k].data(), nanoflann::SearchParams());
+          off[k] = !is_sheet[k] && d2 > reach * reach;
+        }
+      });
+    }
+    const std::vector<char> keep = sampled_components(
+        tris, points.size() + repair.size(),
+        [&](uint32_t id) { return id < points.size() || is_sheet[id - points.size()]; }, &stats.spurious_components,
+        [&](uint32_t id) { return id >= points.size() && off[id - points.size()]; });
     size_t n = 0;
     for (size_t f = 0; f < facets.size(); ++f)
       if (keep[f]) facets[n++] = facets[f];
@@ -786,7 +807,8 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
 }
 
 std::vector<char> sampled_components(const std::vector<std::array<uint32_t, 3>>& triangles, size_t vertices,
-                                     const std::function<bool(uint32_t)>& sampled, int64_t* unsampled) {
+                                     const std::function<bool(uint32_t)>& sampled, int64_t* unsampled,
+                                     const std::function<bool(uint32_t)>& off) {
   std::vector<uint32_t> parent(vertices);  // union-find over the vertices
   std::iota(parent.begin(), parent.end(), 0u);
   auto find = [&](uint32_t a) {
@@ -797,14 +819,24 @@ std::vector<char> sampled_components(const std::vector<std::array<uint32_t, 3>>&
     for (int k = 1; k < 3; ++k) parent[find(t[size_t(k)])] = find(t[0]);
   std::vector<char> held(vertices, 0);  // per component root: holds a sampled vertex
   std::vector<char> seen(vertices, 0);
+  // Per component root: its vertices, and those off the sample (each vertex counted once).
+  std::vector<uint32_t> size(vertices, 0), away(vertices, 0);
   for (const auto& t : triangles)
-    for (uint32_t v : t) held[find(v)] |= char(sampled(v));
+    for (uint32_t v : t) {
+      const uint32_t r = find(v);
+      held[r] |= char(sampled(v));
+      if (seen[v]) continue;
+      seen[v] = 1;
+      ++size[r];
+      away[r] += off && off(v);
+    }
+  std::fill(seen.begin(), seen.end(), 0);
   std::vector<char> keep(triangles.size());
   int64_t none = 0;
   for (size_t f = 0; f < triangles.size(); ++f) {
     const uint32_t r = find(triangles[f][0]);
-    keep[f] = held[r];
-    none += !held[r] && !seen[r];
+    keep[f] = held[r] && 2 * away[r] < size[r];
+    none += !keep[f] && !seen[r];
     seen[r] = 1;
   }
   if (unsampled) *unsampled = none;
