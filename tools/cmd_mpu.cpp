@@ -32,6 +32,8 @@ void add_fit_options(CLI::App* cmd, mpu::FitOptions& f, std::string& local_fit) 
   cmd->add_option("--lambda", f.lambda, "support growth factor per step")->capture_default_str();
   cmd->add_option("--max-depth", f.max_depth, "deepest octree level")->capture_default_str();
   cmd->add_option("--max-degree", f.max_degree, "highest orthopoly degree (2-4)")->capture_default_str();
+  cmd->add_flag("--fit-normals", f.fit_normals,
+                "fit the points' normals too (for exact normals: analytic or a smooth mesh's; off for CT contours)");
   cmd->add_option("--min-radius", f.min_radius,
                   "smallest support radius (mm); negative = 1.5 x the median distance to the 12th nearest point")
       ->capture_default_str();
@@ -54,6 +56,7 @@ nlohmann::json fit_json(const mpu::FitOptions& o, const mpu::FitStats& st) {
           {"lambda", o.lambda},
           {"max_depth", o.max_depth},
           {"max_degree", o.max_degree},
+          {"fit_normals", o.fit_normals},
           {"seconds", st.seconds},
           {"seconds_by_step",
            {{"setup", st.seconds_setup}, {"levels", st.seconds_by_depth}, {"lookup_grid", st.seconds_grid}}}};

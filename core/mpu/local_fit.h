@@ -3,6 +3,8 @@
 //   polynomials orthogonal over the ball's points (the paper's eq. 7-8: Gram-Schmidt on
 //   the monomials with the B-spline-weighted inner product, so no normal equations are
 //   solved), its degree rising from 2 while the points support it and the error falls;
+//   optionally (FitOptions::fit_normals) fitting the points' normals as its slopes too, in
+//   the same inner product (a Hermite fit), which pins it between the slices of a stack;
 // - Ohtake's bivariate quadric height field by weighted normal equations (the original);
 // - a general quadric in 3D, fitted with Ohtake's auxiliary points (cell corners and
 //   centre with an estimated signed distance) so that it is not the trivial zero.
@@ -37,10 +39,10 @@ Eigen::Vector3d mean_normal(const Ball& ball, const PointCloud& cloud);
 // A right-handed frame whose third row is n (unit).
 Eigen::Matrix3d frame_from_normal(const Eigen::Vector3d& n);
 
-// Height fields; `degree_cap` caps the orthopoly degree (2..4). Each returns the leaf
-// with its error filled in by the caller.
+// Height fields; `degree_cap` caps the orthopoly degree (2..4); slope_length > 0 (mm) fits
+// the points' normals too (local_fit.cpp). Each returns the leaf with its error.
 Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen::Vector3d& normal, int degree_cap,
-                          double* error);
+                          double slope_length, double* error);
 Leaf fit_height_quadric(const Ball& ball, const PointCloud& cloud, const Eigen::Vector3d& normal, double* error);
 Leaf fit_general_quadric(const Ball& ball, const PointCloud& cloud, const std::vector<AuxPoint>& aux, double* error);
 

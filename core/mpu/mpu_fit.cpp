@@ -100,6 +100,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   tree.buildIndex();
   const double eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
   const double min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * median_spacing(cloud.positions, tree, 12);
+  const double slope_length = opt.fit_normals ? 0.25 * median_spacing(cloud.positions, tree, 12) : 0.0;
 
   Eigen::Vector3d lo = cloud.positions[0], hi = lo;
   for (const auto& p : cloud.positions) {
@@ -245,7 +246,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
       if (away && aux.size() >= 5) {
         o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
       } else if (within) {
-        o.leaf = opt.local_fit == LocalFit::kOrthopoly ? fit_height_orthopoly(b, cloud, n, opt.max_degree, &o.error)
+        o.leaf = opt.local_fit == LocalFit::kOrthopoly ? fit_height_orthopoly(b, cloud, n, opt.max_degree, slope_length, &o.error)
                                                        : fit_height_quadric(b, cloud, n, &o.error);
       } else {
         if (aux.empty()) aux = aux_points(c);

@@ -95,48 +95,58 @@ TEST_P(MpuShapes, FitsTheTrueSurface) {
   const Case& c = GetParam();
   const double h_xy = 0.5, h_z = c.dense ? 0.5 : 2.0;
   const PointCloud cloud = test::sample_shape(c.shape, h_xy, h_z, c.dense);
-  std::map<mpu::LocalFit, Accuracy> by_kind;
-  for (auto kind : {mpu::LocalFit::kOrthopoly, mpu::LocalFit::kQuadric}) {
+  // The orthopoly fit (the default), Ohtake's quadric, and the orthopoly fit that fits the
+  // (here exact) normals too.
+  enum Variant { kOrtho, kQuadric, kOrthoNormals };
+  std::map<Variant, Accuracy> by_kind;
+  for (Variant variant : {kOrtho, kQuadric, kOrthoNormals}) {
     mpu::FitOptions opt;
-    opt.local_fit = kind;
+    opt.local_fit = variant == kQuadric ? mpu::LocalFit::kQuadric : mpu::LocalFit::kOrthopoly;
+    opt.fit_normals = variant == kOrthoNormals;
+    const char* name = variant == kOrtho ? "orthopoly" : variant == kQuadric ? "quadric" : "orthopoly+normals";
     mpu::FitStats st;
     const mpu::MpuSurface s = mpu::fit_mpu(cloud, opt, &st);
     const Accuracy a = measure(c.shape, s);
-    by_kind[kind] = a;
+    by_kind[variant] = a;
     std::printf(
         "[ %s %s ] %zu points, %lld leaves (%lld general quadrics, degrees 2/3/4: %lld/%lld/%lld, %lld over eps "
         "%.3f), %.2f s; |f| p95 %.4f max %.4f mm; normal p95 %.2f max %.2f deg; K rel p95 %.3f; %lld crossings, "
         "farthest %.3f mm\n",
-        c.name, mpu::local_fit_name(kind), cloud.size(), (long long)st.leaves, (long long)st.general_quadric,
+        c.name, name, cloud.size(), (long long)st.leaves, (long long)st.general_quadric,
         (long long)st.degree_counts[2], (long long)st.degree_counts[3], (long long)st.degree_counts[4],
         (long long)st.over_eps, st.eps, st.seconds, a.f_p95, a.f_max, a.normal_p95_deg, a.normal_max_deg,
         a.gauss_rel_p95, (long long)a.crossings, a.worst_sheet_mm);
     EXPECT_GT(a.crossings, 1000);
     // No zero crossing farther than two slice spacings from the true surface.
-    EXPECT_LE(a.worst_sheet_mm, 2 * h_z) << mpu::local_fit_name(kind);
-    if (kind != mpu::LocalFit::kOrthopoly) continue;
+    EXPECT_LE(a.worst_sheet_mm, 2 * h_z) << name;
+    if (variant == kQuadric) continue;
     // |f| at the true surface within 1% of the sampling spacing (of the slice spacing for
     // a stack), normals within 2°.
-    EXPECT_LE(a.f_max, 0.01 * h_z);
-    EXPECT_LE(a.normal_max_deg, 2.0);
-    // K within 5% over 95% of the surface for dense samples and the sliced sphere (the
-    // torus, whose K changes sign, reaches 6.4% against 0.2 x its largest |K|). Slice
-    // stacks of the ellipsoid and torus reach 11% and 15% (measured): only ten and eight
-    // slices cross their 20 and 16 mm thickness, so K across the slices rests on contours
-    // 2 mm apart; bounded here at 15% and 20%.
+    EXPECT_LE(a.f_max, 0.01 * h_z) << name;
+    EXPECT_LE(a.normal_max_deg, 2.0) << name;
+    // K within 5% over 95% of the surface for dense samples and the sliced sphere
+    // (measured: sphere 1.9% dense, 2.2% sliced; ellipsoid 3.4% dense). The torus, whose K
+    // changes sign, reaches 5.8% dense and 5.5% sliced against 0.2 x its largest |K|:
+    // bounded at 7%. The sliced ellipsoid reaches 11.3%, at its rim: there the radius of
+    // curvature across the slices is 3.3 mm (10² / 30), under two slice spacings, and only
+    // ten slices cross its 20 mm thickness; bounded at 13%. Fitting the normals too, it
+    // reaches 7.0% (bounded at 8%): the slopes across the slices pin the height field
+    // between the contours; the others stay within 0.2% of the default's.
     double k_bound = 0.05;
-    if (c.shape.kind == test::AnalyticShape::kTorus) k_bound = c.dense ? 0.07 : 0.20;
-    if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) k_bound = 0.15;
-    EXPECT_LE(a.gauss_rel_p95, k_bound);
+    if (c.shape.kind == test::AnalyticShape::kTorus) k_bound = 0.07;
+    if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) k_bound = variant == kOrthoNormals ? 0.08 : 0.13;
+    EXPECT_LE(a.gauss_rel_p95, k_bound) << name;
   }
   if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) {
     // The orthogonal-polynomial fit is no worse than the quadric: distance of f = 0 to the
     // true surface (|f| there, p95 and max) and the farthest zero crossing.
-    const Accuracy& o = by_kind[mpu::LocalFit::kOrthopoly];
-    const Accuracy& q = by_kind[mpu::LocalFit::kQuadric];
+    const Accuracy& o = by_kind[kOrtho];
+    const Accuracy& q = by_kind[kQuadric];
     EXPECT_LE(o.f_p95, q.f_p95);
     EXPECT_LE(o.f_max, q.f_max);
     EXPECT_LE(o.worst_sheet_mm, q.worst_sheet_mm);
+    // And the normals' slopes make the sliced ellipsoid's K better.
+    EXPECT_LT(by_kind[kOrthoNormals].gauss_rel_p95, 0.8 * o.gauss_rel_p95);
   }
 }
 

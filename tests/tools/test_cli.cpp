@@ -251,14 +251,15 @@ TEST(Cli, RunOnTheSampleCt) {
 }
 
 // Asked for no count, run raises the default when the triangulation shows the sample too
-// sparse. Thinner plates (a thickness factor of 1.5 instead of 1) make the default 40,000
-// too few on the sample CT: 10,650 repair points for 40,387 particles, 1.9% of the
-// triangles under 30° and a mean radius ratio of 0.905 when kept. Raised to 60,000: 5,720
-// repair points for 59,638 particles, smallest angle 20.0°, 0.67% under 30°.
+// sparse. Thinner plates (a thickness factor of 1.4 instead of 1) make the default 40,000
+// too few on the sample CT: 7,992 repair points for 40,823 particles, 1.3% of the
+// triangles under 30° and a mean radius ratio of 0.908 when kept. Raised to 60,000: 3,455
+// repair points for 60,787 particles, smallest angle 20.1°, 0.45% under 30°. (At 1.5 the
+// raised sample had 6,182 repair points for 59,602 particles, just over the tenth.)
 TEST(Cli, RunRaisesTheDefaultCountOnTheSampleCt) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);
   const std::string dir = test::temp_dir("run-raise");
-  const Result r = run("run " + ct + " --threshold 226 --thickness-factor 1.5 -o " + dir + "/skull.ply --report " +
+  const Result r = run("run " + ct + " --threshold 226 --thickness-factor 1.4 -o " + dir + "/skull.ply --report " +
                        dir + "/report.json --no-self-intersections --backend cpu");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("sampling again with 60000 particles"), std::string::npos) << r.out;
@@ -283,7 +284,7 @@ TEST(Cli, RunRaisesTheDefaultCountOnTheSampleCt) {
   ASSERT_EQ(rr.code, 0) << rr.out;
   EXPECT_NE(read_file(dir + "/r.html").find("The particle count was raised"), std::string::npos);
   // --count-retries 0 keeps the default count, and says what to ask for instead.
-  const Result r0 = run("run " + ct + " --threshold 226 --thickness-factor 1.5 --count-retries 0 -o " + dir +
+  const Result r0 = run("run " + ct + " --threshold 226 --thickness-factor 1.4 --count-retries 0 -o " + dir +
                         "/skull0.ply --no-self-intersections --backend cpu --json");
   ASSERT_EQ(r0.code, 0) << r0.out;
   const auto j0 = nlohmann::json::parse(r0.out);
@@ -437,6 +438,13 @@ TEST(Cli, FitEvalAndPolygonizeASphere) {
   const auto fj = nlohmann::json::parse(f.out);
   EXPECT_GT(fj["leaves"].get<int>(), 8);
   EXPECT_EQ(fj["local_fit"], "orthopoly");
+  EXPECT_FALSE(fj["fit_normals"].get<bool>());
+  {  // --fit-normals fits the normals too: another surface, the same sphere
+    const Result fn = run("fit " + dir + "/p.ply -o " + dir + "/sn.mpu --fit-normals --json");
+    ASSERT_EQ(fn.code, 0) << fn.out;
+    EXPECT_TRUE(nlohmann::json::parse(fn.out)["fit_normals"].get<bool>());
+    EXPECT_NE(read_file(dir + "/sn.mpu"), read_file(dir + "/s.mpu"));
+  }
   {
     std::ofstream q(dir + "/q.xyz");
     q << "# x y z\n10 0 0\n0 0 -10\n0 0 0\n0 0 10.5 0 0 1\n0 0 40\n";
