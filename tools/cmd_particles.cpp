@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 
@@ -342,11 +343,15 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       auto sparse = [](const RestrictedDelaunayStats& t, size_t particles) {
         return particles > 0 && t.repair_points > int64_t(particles) / 10;
       };
+      // The factor on the count (the spacing divided by its square root), rounded up to a
+      // thousand particles.
+      constexpr double kRaise = 1.5;
       auto denser = [](particles::SampleOptions x) {
         if (x.spacing > 0)
-          x.spacing /= std::sqrt(1.5);
+          x.spacing /= std::sqrt(kRaise);
         else
-          x.particles = ((x.particles > 0 ? x.particles : particles::kDefaultParticles) * 3 / 2 + 999) / 1000 * 1000;
+          x.particles = int64_t(std::ceil(double(x.particles > 0 ? x.particles : particles::kDefaultParticles) *
+                                          kRaise / 1000)) * 1000;
         return x;
       };
       particles::SampleStats sst;
@@ -371,7 +376,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
         raises.push_back({{"requested_particles", so.particles},
                           {"requested_spacing_mm", so.spacing},
                           {"particles", ps.size()},
-                          {"repair_points", tst.repair_points}});
+                          {"repair_points", tst.repair_points},
+                          {"next_requested_particles", next.particles},
+                          {"next_requested_spacing_mm", next.spacing}});
         if (!common.json && !common.quiet)
           std::cout << fmt::format("note: {} repair points for {} particles, too sparse a sample: sampling again "
                                    "with {}\n",
@@ -379,9 +386,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                                    next.spacing > 0 ? fmt::format("spacing {:.3f} mm", next.spacing)
                                                     : fmt::format("{} particles", next.particles));
         so = next;
-        // (By spacing, the count grows by the same 1.5.)
+        // (By spacing, the count grows by the same factor.)
         estimate = estimate_run_bytes(voxels, int64_t(cloud.size()),
-                                      so.particles > 0 ? so.particles : int64_t(ps.size()) * 3 / 2);
+                                      so.particles > 0 ? so.particles : int64_t(double(ps.size()) * kRaise));
         check_memory(o->input, estimate);
         mesh = TriangleMesh{};
         ps = particles::ParticleState{};
@@ -430,9 +437,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                                                       : fmt::format("--particles {}", more_opt.particles);
         const std::string note = fmt::format(
             "the triangulation added {} repair points to {} particles ({:.0f}%): the particles are too sparse for "
-            "this surface's thin plates, and the triangles next to repair points are poor; 1.5 times as many "
+            "this surface's thin plates, and the triangles next to repair points are poor; {} times as many "
             "particles ({}) should do better",
-            tst.repair_points, ps.size(), 100.0 * double(tst.repair_points) / double(ps.size()), more);
+            tst.repair_points, ps.size(), 100.0 * double(tst.repair_points) / double(ps.size()), kRaise, more);
         j["notes"].push_back(note);
         if (!common.json && !common.quiet) std::cout << "note: " << note << "\n";
       }

@@ -137,11 +137,19 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   if (run.is_object() && run.contains("particles") && run["particles"].is_object() &&
       run["particles"].contains("count_raises") && run["particles"]["count_raises"].is_array())
     for (const auto& r : run["particles"]["count_raises"])
-      if (r.is_object())
+      if (r.is_object()) {
+        const double spacing = r.contains("next_requested_spacing_mm") && r["next_requested_spacing_mm"].is_number()
+                                   ? r["next_requested_spacing_mm"].get<double>()
+                                   : 0.0;
+        const int64_t next = count(r, "next_requested_particles");
+        const std::string again = spacing > 0 ? fmt::format(" at a spacing of {:.3f} mm", spacing)
+                                  : next > 0  ? fmt::format(" with {} particles asked", next)
+                                              : std::string(" with more particles");
         page.paragraph(report::escape_html(fmt::format(
             "The particle count was raised: {} repair points for {} particles showed too sparse a sample for the "
-            "surface's thin plates, so the particles were sampled again with 1.5 times as many.",
-            count(r, "repair_points"), count(r, "particles"))));
+            "surface's thin plates, so the particles were sampled again{}.",
+            count(r, "repair_points"), count(r, "particles"), again)));
+      }
   if (run.is_object() && run.contains("notes") && run["notes"].is_array())
     for (const auto& n : run["notes"])
       if (n.is_string()) page.paragraph("Note: " + report::escape_html(n.get<std::string>()));

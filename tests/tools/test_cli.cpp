@@ -283,6 +283,8 @@ TEST(Cli, RunRaisesTheDefaultCountOnTheSampleCt) {
       run("report " + dir + "/skull.ply -o " + dir + "/r.html --run-report " + dir + "/report.json --quiet");
   ASSERT_EQ(rr.code, 0) << rr.out;
   EXPECT_NE(read_file(dir + "/r.html").find("The particle count was raised"), std::string::npos);
+  EXPECT_NE(read_file(dir + "/r.html").find("sampled again with 60000 particles asked"), std::string::npos);
+  EXPECT_EQ(raises[0]["next_requested_particles"].get<int64_t>(), 60000);
   // --count-retries 0 keeps the default count, and says what to ask for instead.
   const Result r0 = run("run " + ct + " --threshold 226 --thickness-factor 1.4 --count-retries 0 -o " + dir +
                         "/skull0.ply --no-self-intersections --backend cpu --json");
