@@ -553,10 +553,14 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
       return std::lexicographical_compare(a.first.data(), a.first.data() + 3, b.first.data(), b.first.data() + 3);
     });
     inserted.clear();
+    // The points placed so far come in the order of their x (the sort above), so only
+    // those within the merge distance in x, the last few, can be that near.
     std::vector<Eigen::Vector3d> placed;
     for (const auto& [x, radius] : add) {
       bool near = false;
-      for (const Eigen::Vector3d& y : placed) near = near || (x - y).norm() < kRepairMerge * radius;
+      const double bound = kRepairMerge * radius;
+      for (size_t k = placed.size(); k-- > 0 && !near && x.x() - placed[k].x() < bound;)
+        near = (x - placed[k]).norm() < bound;
       if (near) {
         ++stats.repair_merged;
         continue;
