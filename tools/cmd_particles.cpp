@@ -227,6 +227,10 @@ void add_triangulate_command(CLI::App& app, CommonOptions& common, std::function
   });
 }
 
+// run's factor on the particle count when it samples again (the spacing is divided by its
+// square root; a count is rounded up to a thousand particles).
+constexpr double kRaise = 1.5;
+
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
   struct Opts {
     std::string input, output, report, html, local_fit = "orthopoly";
@@ -253,9 +257,11 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
   add_fit_options(cmd, o->fit, o->local_fit);
   add_sample_options(cmd, o->sample, "--particle-iterations");
   cmd->add_option("--count-retries", o->count_retries,
-                  "when the triangulation needs repair points for more than a tenth of the particles (too sparse a "
-                  "sample for the surface's thin plates), sample again with 1.5 times the particles, up to this many "
-                  "times; default 2 when neither --particles nor --spacing is given, 0 when one is")
+                  fmt::format("when the triangulation needs repair points for more than a tenth of the particles "
+                              "(too sparse a sample for the surface's thin plates), sample again with {} times the "
+                              "particles, up to this many times; default 2 when neither --particles nor --spacing "
+                              "is given, 0 when one is",
+                              kRaise))
       ->check(CLI::Range(0, 8));
   add_backend_options(cmd, o->backend);
   add_common(cmd, common);
@@ -343,9 +349,6 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       auto sparse = [](const RestrictedDelaunayStats& t, size_t particles) {
         return particles > 0 && t.repair_points > int64_t(particles) / 10;
       };
-      // The factor on the count (the spacing divided by its square root), rounded up to a
-      // thousand particles.
-      constexpr double kRaise = 1.5;
       auto denser = [](particles::SampleOptions x) {
         if (x.spacing > 0)
           x.spacing /= std::sqrt(kRaise);

@@ -99,8 +99,11 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
   const double eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
-  const double min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * median_spacing(cloud.positions, tree, 12);
-  const double slope_length = opt.fit_normals ? 0.25 * median_spacing(cloud.positions, tree, 12) : 0.0;
+  // The median distance to the 12th nearest point (about the largest sampling gap), when
+  // the smallest radius or the slope length needs it.
+  const double gap12 = opt.min_radius < 0 || opt.fit_normals ? median_spacing(cloud.positions, tree, 12) : 0.0;
+  const double min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * gap12;
+  const double slope_length = opt.fit_normals ? 0.25 * gap12 : 0.0;
 
   Eigen::Vector3d lo = cloud.positions[0], hi = lo;
   for (const auto& p : cloud.positions) {
@@ -246,8 +249,9 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
       if (away && aux.size() >= 5) {
         o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
       } else if (within) {
-        o.leaf = opt.local_fit == LocalFit::kOrthopoly ? fit_height_orthopoly(b, cloud, n, opt.max_degree, slope_length, &o.error)
-                                                       : fit_height_quadric(b, cloud, n, &o.error);
+        o.leaf = opt.local_fit == LocalFit::kOrthopoly
+                     ? fit_height_orthopoly(b, cloud, n, opt.max_degree, slope_length, &o.error)
+                     : fit_height_quadric(b, cloud, n, &o.error);
       } else {
         if (aux.empty()) aux = aux_points(c);
         o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
