@@ -23,5 +23,5 @@ void main() {
   if (i >= pc.count) return;
   MpuSample s = mpu_evaluate_opt(points[i].xyz, pc.value_only == 0u);
   fg[i] = vec4(s.f, s.g);
-  if (pc.value_only == 0u) curv[i] = mpu_curvature(s.g, s.H);
+  if (pc.value_only == 0u) curv[i] = mpu_curvature(s.g, s.Hb);
 }

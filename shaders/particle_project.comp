@@ -34,7 +34,7 @@ void main() {
     if (len > sigma) step *= sigma / len;
     x += step;
   }
-  // The last Newton step from the evaluation that also gives the normal, and the Hessian
+  // The last Newton step from the evaluation that also gives the normal, and the blended Hessian
   // for the curvature on a batch's last iteration (as the CPU reference).
   MpuSample s = mpu_evaluate_opt(x, pc.curvature != 0u);
   float g2 = dot(s.g, s.g), g = sqrt(g2);
@@ -52,5 +52,5 @@ void main() {
   if (len > sigma) step *= sigma / len;
   pos[i] = vec4(x + step, sigma);
   normal[i] = vec4(s.g / g, (s.f + dot(s.g, step)) / g);
-  if (pc.curvature != 0u) curv[i] = mpu_curvature(s.g, s.H);
+  if (pc.curvature != 0u) curv[i] = mpu_curvature(s.g, s.Hb);
 }

@@ -33,7 +33,7 @@ bool grid_cell(const MpuSurface& s, const Eigen::Vector3d& x, size_t& cell) {
 // with no branches and no dependence between leaves, and the terms are summed in kLanes
 // running sums (leaf j into sum j mod kLanes, the sums added in a fixed order at the end),
 // so the result is the same bytes whatever vector width the compiler uses.
-// Order 0: f only; 1: f and ∇f; 2: f, ∇f and the Hessian.
+// Order 0: f only; 1: f and ∇f; 2: f, ∇f and the blended Hessian Hb; 3: and the Hessian H.
 constexpr int kLanes = 8;
 constexpr int kChunk = 32;  // a multiple of kLanes
 
@@ -58,6 +58,7 @@ struct ChunkTerms {
 struct Sums {
   alignas(64) double N[kLanes] = {}, D[kLanes] = {};
   alignas(64) double gN[3][kLanes] = {}, gD[3][kLanes] = {};
+  alignas(64) double HbN[6][kLanes] = {};
   alignas(64) double HN[6][kLanes] = {}, HD[6][kLanes] = {};
 };
 
@@ -92,7 +93,6 @@ void chunk_terms(const ChunkIn& __restrict in, int n, ChunkTerms& __restrict t) 
         t.gQ[i][j] = M[i] * gq[0] + M[3 + i] * gq[1] + M[6 + i] * gq[2];
       }
       if constexpr (kOrder >= 2) {
-        const double k2 = inner ? 0.0 : (d2w - dw / r) / r2;
         const double Hl[3][3] = {{hq[0], hq[1], hq[2]}, {hq[1], hq[3], hq[4]}, {hq[2], hq[4], hq[5]}};
         double A[3][3];
         for (int a = 0; a < 3; ++a)
@@ -100,7 +100,13 @@ void chunk_terms(const ChunkIn& __restrict in, int n, ChunkTerms& __restrict t) 
         for (int e = 0; e < 6; ++e) {
           const int i = kI[e], k = kJ[e];
           t.HQ[e][j] = (M[i] * A[0][k] + M[3 + i] * A[1][k] + M[6 + i] * A[2][k]) * invR;
-          t.Hw[e][j] = (i == k ? k1 : 0.0) + k2 * d[i] * d[k];
+        }
+        if constexpr (kOrder >= 3) {
+          const double k2 = inner ? 0.0 : (d2w - dw / r) / r2;
+          for (int e = 0; e < 6; ++e) {
+            const int i = kI[e], k = kJ[e];
+            t.Hw[e][j] = (i == k ? k1 : 0.0) + k2 * d[i] * d[k];
+          }
         }
       }
     }
@@ -121,6 +127,8 @@ void chunk_sums(const ChunkTerms& __restrict t, int n, double f0, Sums& __restri
           s.gD[i][l] += t.gw[i][j];
         }
       if constexpr (kOrder >= 2)
+        for (int e = 0; e < 6; ++e) s.HbN[e][l] += w * t.HQ[e][j];
+      if constexpr (kOrder >= 3)
         for (int e = 0; e < 6; ++e) {
           const int i = kI[e], k = kJ[e];
           s.HN[e][l] += Qs * t.Hw[e][j] + t.gw[i][j] * t.gQ[k][j] + t.gQ[i][j] * t.gw[k][j] + w * t.HQ[e][j];
@@ -149,11 +157,9 @@ Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
       out.f = o.f;
       out.leaves = o.leaves;
       if constexpr (kOrder >= 1) out.g = Eigen::Vector3d(o.g[0], o.g[1], o.g[2]);
-      if constexpr (kOrder >= 2) {
-        for (int e = 0; e < 6; ++e) {
-          out.H(kI[e], kJ[e]) = o.H[e];
-          out.H(kJ[e], kI[e]) = o.H[e];
-        }
+      for (int e = 0; e < 6; ++e) {
+        if constexpr (kOrder >= 2) out.Hb(kI[e], kJ[e]) = out.Hb(kJ[e], kI[e]) = o.Hb[e];
+        if constexpr (kOrder >= 3) out.H(kI[e], kJ[e]) = out.H(kJ[e], kI[e]) = o.H[e];
       }
       return out;
     }
@@ -225,13 +231,13 @@ Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
       gD[i] = lane_total(sums.gD[i]);
       out.g[i] = (lane_total(sums.gN[i]) - fs * gD[i]) / D;
     }
-    if constexpr (kOrder >= 2)
-      for (int e = 0; e < 6; ++e) {
-        const int i = kI[e], j = kJ[e];
-        const double h = (lane_total(sums.HN[e]) - fs * lane_total(sums.HD[e]) - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
-        out.H(i, j) = h;
-        out.H(j, i) = h;
-      }
+    for (int e = 0; e < 6; ++e) {
+      const int i = kI[e], j = kJ[e];
+      if constexpr (kOrder >= 2) out.Hb(i, j) = out.Hb(j, i) = lane_total(sums.HbN[e]) / D;
+      if constexpr (kOrder >= 3)
+        out.H(i, j) = out.H(j, i) =
+            (lane_total(sums.HN[e]) - fs * lane_total(sums.HD[e]) - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
+    }
   }
   return out;
 }
@@ -239,6 +245,8 @@ Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
 }  // namespace
 
 Sample evaluate(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<2>(s, x); }
+
+Sample evaluate_hessian(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<3>(s, x); }
 
 Sample evaluate_fg(const MpuSurface& s, const Eigen::Vector3d& x) { return evaluate_impl<1>(s, x); }
 
@@ -284,7 +292,7 @@ std::vector<EvalRow> evaluate_all(const MpuSurface& s, const std::vector<Eigen::
     for (size_t o = r.begin(); o != r.end(); ++o) {
       const size_t i = order[o];
       const Sample e = evaluate(s, points[i]);
-      const Curvature c = curvature(e.g, e.H);
+      const Curvature c = curvature(e);
       EvalRow& row = rows[i];
       for (int d = 0; d < 3; ++d) {
         row.x[d] = points[i][d];

@@ -40,11 +40,12 @@ struct EvalView {
   uint32_t leaf_stride;  // doubles per leaf
 };
 
-// Result of one evaluation: f, ∇f and the Hessian (xx xy xz yy yz zz), the leaves that
-// hold the point; `handled` is false where the kernel declined (a lookup cell with more
-// candidates than it buffers), and the caller then runs the reference.
+// Result of one evaluation: f, ∇f, the blended Hessian Hb and the Hessian H of f (xx xy
+// xz yy yz zz; mpu_eval_ref.h), the leaves that hold the point; `handled` is false where
+// the kernel declined (a lookup cell with more candidates than it buffers), and the
+// caller then runs the reference.
 struct EvalOut {
-  double f = 0, g[3] = {0, 0, 0}, H[6] = {0, 0, 0, 0, 0, 0};
+  double f = 0, g[3] = {0, 0, 0}, Hb[6] = {0, 0, 0, 0, 0, 0}, H[6] = {0, 0, 0, 0, 0, 0};
   int leaves = 0;
   bool handled = true;
 };
@@ -54,7 +55,7 @@ inline constexpr uint32_t kMaxCandidates = 1024;
 
 EvalView make_view(const MpuSurface& s);
 
-// order 0: f; 1: f and ∇f; 2: f, ∇f and H.
+// order 0: f; 1: f and ∇f; 2: f, ∇f and Hb; 3: f, ∇f, Hb and H.
 EvalOut evaluate_avx512(const EvalView& v, const double x[3], int order);
 EvalOut evaluate_avx2(const EvalView& v, const double x[3], int order);
 

@@ -20,7 +20,7 @@ namespace mpumesh::mpu::simd {
 
 template <class I>
 struct Sums {
-  typename I::V N, D, gN[3], gD[3], HN[6], HD[6];
+  typename I::V N, D, gN[3], gD[3], HbN[6], HN[6], HD[6];
 };
 
 template <class I>
@@ -153,19 +153,26 @@ MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const 
       h3 = I::add(h3, I::mul(I::mul(six, c[13]), uv));
       h3 = I::add(h3, I::mul(I::mul(twelve, c[14]), v2));
       const V h2 = c[17], h4 = c[18], h5 = I::mul(two, c[16]);
-      const V k2 = I::sel(inner, I::zero(), I::div(I::sub(d2w, I::div(dw, r)), r2));
       const V Hl[3][3] = {{h0, h1, h2}, {h1, h3, h4}, {h2, h4, h5}};
       V A[3][3];
       for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
           A[a][b] = I::add(I::add(I::mul(Hl[a][0], M[b]), I::mul(Hl[a][1], M[3 + b])), I::mul(Hl[a][2], M[6 + b]));
       constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
+      V HQ[6];
       for (int e = 0; e < 6; ++e) {
         const int i = kI[e], k = kJ[e];
-        const V HQ = I::mul(I::add(I::add(I::mul(M[i], A[0][k]), I::mul(M[3 + i], A[1][k])), I::mul(M[6 + i], A[2][k])), invR);
-        const V Hw = I::add(i == k ? k1 : I::zero(), I::mul(I::mul(k2, d[i]), d[k]));
-        s.HN[e] = I::add(s.HN[e], I::add(I::add(I::add(I::mul(Qs, Hw), I::mul(gw[i], gQ[k])), I::mul(gQ[i], gw[k])), I::mul(w, HQ)));
-        s.HD[e] = I::add(s.HD[e], Hw);
+        HQ[e] = I::mul(I::add(I::add(I::mul(M[i], A[0][k]), I::mul(M[3 + i], A[1][k])), I::mul(M[6 + i], A[2][k])), invR);
+        s.HbN[e] = I::add(s.HbN[e], I::mul(w, HQ[e]));
+      }
+      if constexpr (kOrder >= 3) {
+        const V k2 = I::sel(inner, I::zero(), I::div(I::sub(d2w, I::div(dw, r)), r2));
+        for (int e = 0; e < 6; ++e) {
+          const int i = kI[e], k = kJ[e];
+          const V Hw = I::add(i == k ? k1 : I::zero(), I::mul(I::mul(k2, d[i]), d[k]));
+          s.HN[e] = I::add(s.HN[e], I::add(I::add(I::add(I::mul(Qs, Hw), I::mul(gw[i], gQ[k])), I::mul(gQ[i], gw[k])), I::mul(w, HQ[e])));
+          s.HD[e] = I::add(s.HD[e], Hw);
+        }
       }
     }
   }
@@ -217,7 +224,7 @@ MPUMESH_SIMD_TARGET EvalOut eval_kernel(const EvalView& view, const double x[3])
   Sums<I> s;
   s.N = s.D = I::zero();
   for (int i = 0; i < 3; ++i) s.gN[i] = s.gD[i] = I::zero();
-  for (int e = 0; e < 6; ++e) s.HN[e] = s.HD[e] = I::zero();
+  for (int e = 0; e < 6; ++e) s.HbN[e] = s.HN[e] = s.HD[e] = I::zero();
   double f0 = 0;
   for (int b = 0; b < padded; b += 8) {
     const double* p[8];
@@ -239,12 +246,12 @@ MPUMESH_SIMD_TARGET EvalOut eval_kernel(const EvalView& view, const double x[3])
       gD[i] = lane_total<I>(s.gD[i]);
       out.g[i] = (lane_total<I>(s.gN[i]) - fs * gD[i]) / D;
     }
-    if constexpr (kOrder >= 2) {
-      constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
-      for (int e = 0; e < 6; ++e) {
-        const int i = kI[e], j = kJ[e];
+    constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
+    for (int e = 0; e < 6; ++e) {
+      const int i = kI[e], j = kJ[e];
+      if constexpr (kOrder >= 2) out.Hb[e] = lane_total<I>(s.HbN[e]) / D;
+      if constexpr (kOrder >= 3)
         out.H[e] = (lane_total<I>(s.HN[e]) - fs * lane_total<I>(s.HD[e]) - out.g[i] * gD[j] - gD[i] * out.g[j]) / D;
-      }
     }
   }
   return out;
@@ -252,7 +259,12 @@ MPUMESH_SIMD_TARGET EvalOut eval_kernel(const EvalView& view, const double x[3])
 
 template <class I>
 MPUMESH_SIMD_TARGET EvalOut eval_dispatch(const EvalView& v, const double x[3], int order) {
-  return order == 0 ? eval_kernel<I, 0>(v, x) : order == 1 ? eval_kernel<I, 1>(v, x) : eval_kernel<I, 2>(v, x);
+  switch (order) {
+    case 0: return eval_kernel<I, 0>(v, x);
+    case 1: return eval_kernel<I, 1>(v, x);
+    case 2: return eval_kernel<I, 2>(v, x);
+    default: return eval_kernel<I, 3>(v, x);
+  }
 }
 
 }  // namespace mpumesh::mpu::simd

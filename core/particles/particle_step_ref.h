@@ -19,9 +19,10 @@
 //   3. projection: newton_steps Newton steps x -= f ∇f / |∇f|² (each capped at σ_i), the
 //      last one from the evaluation that also gives the normal for the next iteration;
 //      the distance kept is the linearised f / |∇f| after that step (0 unless capped).
-//      The curvature (Kindlmann, which needs the Hessian) is measured on the last
-//      iteration of a batch only: the weights use it between batches, and leaving H out
-//      of the other iterations' evaluations saves about a third of their cost.
+//      The curvature (Kindlmann, from the blended Hessian of mpu_eval_ref.h) is measured
+//      on the last iteration of a batch only: the weights use it between batches, and
+//      leaving the second derivatives out of the other iterations' evaluations saves part
+//      of their cost.
 // The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
 // particle's target radius instead (particle_population.h), which is the reading that
 // makes high curvature denser (see DESIGN.md): scaling E_i and Ê alike would change the

@@ -1,24 +1,26 @@
-// MPU evaluation in GLSL: f, ∇f and the Hessian at a point, the leaves found through the
-// lookup grid, each leaf's polynomial evaluated in its own frame scaled by its radius.
-// Mirrors core/mpu/mpu_eval_ref.cpp (evaluate) and core/mpu/local_poly.h; the includer
-// declares the `leaves`, `offsets` and `leaf_ids` buffers and the push block `pc`.
+// MPU evaluation in GLSL: f, ∇f and the blended Hessian Hb = Σ w ∇²Q / Σ w (the
+// leaves' own Hessians weighted, from which the curvature is taken: see
+// core/mpu/mpu_eval_ref.h) at a point, the leaves found through the lookup grid, each
+// leaf's polynomial evaluated in its own frame scaled by its radius. Mirrors
+// core/mpu/mpu_eval_ref.cpp (evaluate) and core/mpu/local_poly.h; the includer declares
+// the `leaves`, `offsets` and `leaf_ids` buffers and the push block `pc`.
 // Sums are taken about the first leaf's value f0, so that Σ w (Q - f0) does not cancel
 // the large terms that Σ w Q would: f = f0 + N / D.
 
 struct MpuSample {
   float f;
   vec3 g;
-  mat3 H;
+  mat3 Hb;
   uint leaves;
 };
 
-// want_h false leaves the Hessian out (s.H stays 0): what Newton steps need. A uniform
-// value (a push constant or a literal), so the branches do not diverge.
+// want_h false leaves the second derivatives out (s.Hb stays 0): what Newton steps need.
+// A uniform value (a push constant or a literal), so the branches do not diverge.
 MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
   MpuSample s;
   s.f = pc.far_value;
   s.g = vec3(0.0);
-  s.H = mat3(0.0);
+  s.Hb = mat3(0.0);
   s.leaves = 0u;
   vec3 rel = (x - vec3(pc.box_min_x, pc.box_min_y, pc.box_min_z)) * pc.inv_cell;
   ivec3 c = ivec3(floor(rel));
@@ -29,7 +31,7 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
   bool have_f0 = false;
   float N = 0.0, D = 0.0;
   vec3 gN = vec3(0.0), gD = vec3(0.0);
-  mat3 HN = mat3(0.0), HD = mat3(0.0);
+  mat3 HbN = mat3(0.0);
   for (uint k = first; k < last; ++k) {
     uint b = MPU_LEAF_VEC4 * leaf_ids[k];
     vec4 cr = leaves[b];
@@ -45,10 +47,8 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
     bool inner = t <= 0.5;
     float w = inner ? 0.75 - t * t : 0.5 * (t - 1.5) * (t - 1.5);
     float dw = inner ? -2.0 * t * sc : (t - 1.5) * sc;
-    float d2w = inner ? -2.0 * sc * sc : sc * sc;
-    // ∇w = k1 d, Hw = k1 I + k2 d dᵀ (k1 finite at r = 0 on the inner piece).
+    // ∇w = k1 d (k1 finite at r = 0 on the inner piece).
     float k1 = inner ? -2.0 * sc * sc : dw / r;
-    float k2 = inner ? 0.0 : (d2w - k1) / r2;
     vec3 y = vec3(dot(fu.xyz, d), dot(fv.xyz, d), dot(fw.xyz, d)) * invR;
     vec4 c0 = leaves[b + 4u], c1 = leaves[b + 5u], c2 = leaves[b + 6u], c3 = leaves[b + 7u], c4 = leaves[b + 8u];
     float u = y.x, v = y.y, ww = y.z;
@@ -84,9 +84,7 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
       float hvv = 2.0 * c1.y + 2.0 * c2.x * u + 6.0 * c2.y * v + 2.0 * c3.x * u2 + 6.0 * c3.y * uv + 12.0 * c3.z * v2;
       mat3 Hq = mat3(huu, huv, c4.y, huv, hvv, c4.z, c4.y, c4.z, 2.0 * c4.x);
       mat3 HQ = Mt * Hq * transpose(Mt) * invR;
-      mat3 Hw = mat3(k1) + k2 * outerProduct(d, d);
-      HN += Qs * Hw + outerProduct(gw3, gQ) + outerProduct(gQ, gw3) + w * HQ;
-      HD += Hw;
+      HbN += w * HQ;
     }
     s.leaves += 1u;
   }
@@ -97,7 +95,7 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
   float fs = N / D;
   s.f = f0 + fs;
   s.g = (gN - fs * gD) / D;
-  if (want_h) s.H = (HN - fs * HD - outerProduct(s.g, gD) - outerProduct(gD, s.g)) / D;
+  if (want_h) s.Hb = HbN / D;
   return s;
 }
 

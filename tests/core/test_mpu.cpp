@@ -43,7 +43,7 @@ Accuracy measure(const test::AnalyticShape& shape, const mpu::MpuSurface& s) {
   const double K_scale = shape.kind == test::AnalyticShape::kTorus ? 1.0 / (shape.b * (shape.a + shape.b)) : 0;
   for (size_t i = 0; i < truth.size(); ++i) {
     const auto e = mpu::evaluate(s, truth.positions[i]);
-    const auto c = mpu::curvature(e.g, e.H);
+    const auto c = mpu::curvature(e);
     Eigen::Vector3d n;
     double K;
     shape.distance(truth.positions[i], &n, &K);
@@ -124,17 +124,18 @@ TEST_P(MpuShapes, FitsTheTrueSurface) {
     // a stack), normals within 2°.
     EXPECT_LE(a.f_max, 0.01 * h_z) << name;
     EXPECT_LE(a.normal_max_deg, 2.0) << name;
-    // K within 5% over 95% of the surface for dense samples and the sliced sphere
-    // (measured: sphere 1.9% dense, 2.2% sliced; ellipsoid 3.4% dense). The torus, whose K
-    // changes sign, reaches 5.8% dense and 5.5% sliced against 0.2 x its largest |K|:
-    // bounded at 7%. The sliced ellipsoid reaches 11.3%, at its rim: there the radius of
-    // curvature across the slices is 3.3 mm (10² / 30), under two slice spacings, and only
-    // ten slices cross its 20 mm thickness; bounded at 13%. Fitting the normals too, it
-    // reaches 7.0% (bounded at 8%): the slopes across the slices pin the height field
-    // between the contours; the others stay within 0.2% of the default's.
+    // K (from the blended Hessian, mpu_eval_ref.h) within 5% over 95% of the surface for
+    // every shape but the sliced ellipsoid (measured: sphere 2.4% dense, 2.3% sliced;
+    // ellipsoid 3.0% dense; torus, whose K changes sign, 3.6% dense and sliced against
+    // 0.2 x its largest |K|). The sliced ellipsoid reaches 6.2%, at its rim: there the
+    // radius of curvature across the slices is 3.3 mm (10² / 30), under two slice
+    // spacings, and only ten slices cross its 20 mm thickness; bounded at 7%. Fitting the
+    // normals too, it reaches 5.5% (bounded at 6%): the slopes across the slices pin the
+    // height field between the contours; the others stay within 0.1% of the default's.
+    // (With the Hessian of f instead, whose weight derivatives carry the leaves'
+    // disagreement, these were 1.9 / 2.2 / 3.4 / 5.8 / 5.5%, and 11.3% and 7.0% sliced.)
     double k_bound = 0.05;
-    if (c.shape.kind == test::AnalyticShape::kTorus) k_bound = 0.07;
-    if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) k_bound = variant == kOrthoNormals ? 0.08 : 0.13;
+    if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) k_bound = variant == kOrthoNormals ? 0.06 : 0.07;
     EXPECT_LE(a.gauss_rel_p95, k_bound) << name;
   }
   if (c.shape.kind == test::AnalyticShape::kEllipsoid && !c.dense) {
@@ -145,8 +146,10 @@ TEST_P(MpuShapes, FitsTheTrueSurface) {
     EXPECT_LE(o.f_p95, q.f_p95);
     EXPECT_LE(o.f_max, q.f_max);
     EXPECT_LE(o.worst_sheet_mm, q.worst_sheet_mm);
-    // And the normals' slopes make the sliced ellipsoid's K better.
-    EXPECT_LT(by_kind[kOrthoNormals].gauss_rel_p95, 0.8 * o.gauss_rel_p95);
+    // And the normals' slopes make the sliced ellipsoid's K better (5.5% against 6.2%;
+    // with the Hessian of f, 7.0% against 11.3%: that Hessian's blending error was most of
+    // what they mended).
+    EXPECT_LT(by_kind[kOrthoNormals].gauss_rel_p95, 0.95 * o.gauss_rel_p95);
   }
 }
 

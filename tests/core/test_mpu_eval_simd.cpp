@@ -1,9 +1,9 @@
 // The MPU evaluation's vector paths (core/mpu/mpu_eval_simd.h, one per SimdLevel of
 // common/simd_level.h) against the generic
-// reference (core/mpu/mpu_eval_ref.cpp): the same bytes for f, ∇f, the Hessian and the
-// leaf count, on fitted phantoms (a sphere, a slice-stacked ellipsoid, a torus), at
-// random points on, near, far from and outside the surface, with each of the three
-// evaluation orders; and the fall-back to the reference where a lookup cell holds more
+// reference (core/mpu/mpu_eval_ref.cpp): the same bytes for f, ∇f, the blended Hessian,
+// the Hessian and the leaf count, on fitted phantoms (a sphere, a slice-stacked ellipsoid,
+// a torus), at random points on, near, far from and outside the surface, with each of the
+// four evaluation orders; and the fall-back to the reference where a lookup cell holds more
 // candidates than the kernels buffer. Paths this CPU lacks are skipped, and say so.
 #include <gtest/gtest.h>
 
@@ -30,7 +30,7 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; 
 bool same_sample(const mpu::Sample& a, const mpu::Sample& b) {
   bool ok = same_bits(a.f, b.f) && a.leaves == b.leaves;
   for (int i = 0; i < 3; ++i) ok = ok && same_bits(a.g[i], b.g[i]);
-  for (int i = 0; i < 9; ++i) ok = ok && same_bits(a.H.data()[i], b.H.data()[i]);
+  for (int i = 0; i < 9; ++i) ok = ok && same_bits(a.Hb.data()[i], b.Hb.data()[i]) && same_bits(a.H.data()[i], b.H.data()[i]);
   return ok;
 }
 
@@ -59,12 +59,12 @@ int64_t mismatches(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>&
   int64_t bad = 0, held = 0, sum = 0;
   for (const auto& x : q) {
     set_simd_level(SimdLevel::kGeneric);
-    const mpu::Sample r2 = mpu::evaluate(s, x), r1 = mpu::evaluate_fg(s, x);
+    const mpu::Sample r3 = mpu::evaluate_hessian(s, x), r2 = mpu::evaluate(s, x), r1 = mpu::evaluate_fg(s, x);
     const double r0 = mpu::evaluate_f(s, x);
     set_simd_level(path);
-    const mpu::Sample v2 = mpu::evaluate(s, x), v1 = mpu::evaluate_fg(s, x);
+    const mpu::Sample v3 = mpu::evaluate_hessian(s, x), v2 = mpu::evaluate(s, x), v1 = mpu::evaluate_fg(s, x);
     const double v0 = mpu::evaluate_f(s, x);
-    bad += !same_sample(r2, v2) || !same_sample(r1, v1) || !same_bits(r0, v0);
+    bad += !same_sample(r3, v3) || !same_sample(r2, v2) || !same_sample(r1, v1) || !same_bits(r0, v0);
     if (r2.leaves > 0) {
       ++held;
       sum += r2.leaves;

@@ -42,9 +42,10 @@ TEST(MpuFile, RoundTripKeepsEveryBitAndEveryValue) {
   ASSERT_EQ(back.leaves.size(), s.leaves.size());
   for (const Eigen::Vector3d p : {Eigen::Vector3d(10, 0.3, 0.2), Eigen::Vector3d(0.1, -9.7, 2.0),
                                   Eigen::Vector3d(1, 2, 3)}) {
-    const auto a = mpu::evaluate(s, p), b = mpu::evaluate(back, p);
+    const auto a = mpu::evaluate_hessian(s, p), b = mpu::evaluate_hessian(back, p);
     EXPECT_EQ(a.f, b.f);
     EXPECT_EQ(a.g, b.g);
+    EXPECT_EQ(a.Hb, b.Hb);
     EXPECT_EQ(a.H, b.H);
   }
   const std::string path = ::testing::TempDir() + "/round.mpu";

@@ -1,11 +1,13 @@
 // Benchmark: stage 4 (MPU fit) and stage 5 (evaluation with curvature) on the sample CT's
 // points (bone at 226 HU), every backend measured in the same run. Prints the fit time
 // and leaf count for both local fits, |f| at the input points, and the evaluation
-// throughput (points per second with f, ∇f, H and curvature) for 10^6 points near the
-// surface: the CPU path (the widest instruction set, then the others), then each Vulkan
-// device (kernel timestamps and wall time, with the ratio to the CPU path). Usage:
+// throughput (points per second with f, ∇f, the blended Hessian and curvature) for 10^6
+// points near the surface: the CPU path (the widest instruction set, then the others, then
+// with the Hessian of f as well), then each Vulkan device (kernel timestamps and wall time,
+// with the ratio to the CPU path). Usage:
 //   mpumesh_bench_mpu [VOLUME] [THRESHOLD] [QUERY_POINTS] [REPEATS]
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <chrono>
@@ -16,6 +18,7 @@
 #include "io/volume_io.h"
 #include "kernels/mpu_eval_vk.h"
 #include "common/simd_level.h"
+#include "mpu/mpu_eval_ref.h"
 #include "mpu/mpu_fit.h"
 #include "points/slice_points.h"
 #include "segment/segmentation.h"
@@ -86,7 +89,8 @@ int main(int argc, char** argv) {
       const size_t i = pick(rng);
       p = cloud.positions[i] + off(rng) * cloud.normals[i];
     }
-    fmt::print("\nevaluation of {} points within 1 mm of the surface (f, grad f, H, curvature)\n", queries);
+    fmt::print("\nevaluation of {} points within 1 mm of the surface (f, grad f, blended Hessian, curvature)\n",
+               queries);
     fmt::print("{:<44} {:>10} {:>14} {:>10}\n", "device", "wall s", "points/s", "vs CPU");
     std::vector<double> t;
     std::vector<mpu::EvalRow> ref;
@@ -114,6 +118,31 @@ int main(int argc, char** argv) {
                  double(queries) / s_path, cpu_s / s_path);
     }
     set_simd_level(chosen);
+    {
+      // The same points with the Hessian of f as well (mpu::evaluate_hessian: the exact
+      // second derivative, which the curvature no longer takes; mpu_eval_ref.h), for
+      // comparison with the figures measured before the blended Hessian.
+      // (As evaluate_all: in cache order, into a new array of rows.)
+      std::vector<double> th;
+      for (int r = 0; r < repeats; ++r) {
+        const auto t0 = Clock::now();
+        const std::vector<size_t> order = mpu::cache_order(surface, q);
+        std::vector<mpu::EvalRow> rows(q.size());
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, q.size(), 1024), [&](const tbb::blocked_range<size_t>& b) {
+          for (size_t o = b.begin(); o != b.end(); ++o) {
+            const size_t i = order[o];
+            const mpu::Sample e = mpu::evaluate_hessian(surface, q[i]);
+            const mpu::Curvature c = mpu::curvature(e);
+            rows[i] = {{q[i].x(), q[i].y(), q[i].z()}, e.f, {e.g.x(), e.g.y(), e.g.z()}, c.k1, c.k2, c.gauss, c.mean};
+          }
+        });
+        th.push_back(sec_since(t0));
+      }
+      const double s_h = median(th);
+      fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>9.2f}x\n",
+                 cpu.device() + ", " + simd_level_name(chosen) + ", + Hessian of f", s_h, double(queries) / s_h,
+                 cpu_s / s_h);
+    }
     for (const auto& d : vk::list_devices()) {
       vk::ContextOptions opt;
       opt.device_index = d.index;
