@@ -60,7 +60,25 @@ nlohmann::json sample_json(const particles::SampleOptions& o, const particles::S
                            const particles::ParticleState& ps) {
   std::vector<double> absk(ps.size());
   for (size_t i = 0; i < ps.size(); ++i) absk[i] = std::abs(ps.curv[i].gauss);
-  const particles::SpacingStats sp = particles::spacing_stats(particles::local_spacing(ps.x), absk);
+  const std::vector<double> spacing = particles::local_spacing(ps.x);
+  const particles::SpacingStats sp = particles::spacing_stats(spacing, absk);
+  // The same over the particles whose spacing their curvature sets (not a plate's
+  // thickness): the relation the curvature weight is for.
+  std::vector<double> curved_spacing, curved_absk;
+  for (size_t i = 0; i < ps.size(); ++i)
+    if (i < st.spacing_by_thickness.size() && !st.spacing_by_thickness[i])
+      curved_spacing.push_back(spacing[i]), curved_absk.push_back(absk[i]);
+  const particles::SpacingStats sc = particles::spacing_stats(curved_spacing, curved_absk);
+  auto spacing_json = [](const particles::SpacingStats& x) {
+    return nlohmann::json{{"mean_mm", x.mean},
+                          {"cv", x.cv},
+                          {"median_high_K_mm", x.high_k_median},
+                          {"median_low_K_mm", x.low_k_median},
+                          {"high_over_low", x.ratio},
+                          {"rank_correlation_with_abs_K", x.rank_correlation}};
+  };
+  nlohmann::json curved = spacing_json(sc);
+  curved["particles"] = curved_spacing.size();
   nlohmann::json hist = nlohmann::json::array();
   for (const auto& h : st.history)
     hist.push_back({{"iteration", h.iteration}, {"count", h.count}, {"births", h.births}, {"deaths", h.deaths},
@@ -82,13 +100,8 @@ nlohmann::json sample_json(const particles::SampleOptions& o, const particles::S
           {"curvature_scale", o.curvature_scale},
           {"spacing_grade", o.spacing_grade},
           {"sqrt_abs_K_clamp", {st.kappa_lo, st.kappa_hi}},
-          {"spacing",
-           {{"mean_mm", sp.mean},
-            {"cv", sp.cv},
-            {"median_high_K_mm", sp.high_k_median},
-            {"median_low_K_mm", sp.low_k_median},
-            {"high_over_low", sp.ratio},
-            {"rank_correlation_with_abs_K", sp.rank_correlation}}},
+          {"spacing", spacing_json(sp)},
+          {"spacing_where_curvature_sets", curved},
           {"seconds", {{"seed", st.seconds_seed}, {"iterate", st.seconds_iterate}, {"population", st.seconds_population}}},
           {"history", hist}};
 }

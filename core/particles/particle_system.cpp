@@ -596,12 +596,24 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     }
   }
   stats.iterations = it;
+  // Which bound sets each particle's spacing at the end: its local thickness or its
+  // curvature (spacing_targets, from the final curvature).
+  std::vector<uint8_t> by_thickness(st.size());
+  {
+    double lo, hi;
+    const std::vector<double> weights = curvature_weights(st.curv, st.distance, opt.curvature_scale, lo, hi);
+    const double floor = h * std::exp(-opt.curvature_scale);
+    for (size_t i = 0; i < st.size(); ++i)
+      by_thickness[i] = std::max(opt.thickness_factor * thickness[i], floor) < 0.999 * h * weights[i];
+  }
   {  // and those that left the data in the final batch
     std::vector<size_t> rows;
     for (size_t i = 0; i < st.size(); ++i)
       if (support.near(st.x[i])) rows.push_back(i);
     stats.off_data += int64_t(st.size() - rows.size());
     if (rows.size() < st.size()) keep_rows(st, rows);
+    stats.spacing_by_thickness.resize(rows.size());
+    for (size_t k = 0; k < rows.size(); ++k) stats.spacing_by_thickness[k] = by_thickness[rows[k]];
   }
   stats.particles = int64_t(st.size());
   return st;

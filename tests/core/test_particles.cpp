@@ -3,6 +3,7 @@
 // repeatable runs.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -85,6 +86,9 @@ TEST(Particles, EllipsoidSpacingFollowsCurvature) {
   print("ellipsoid", r);
   EXPECT_LT(r.spacing.ratio, 0.6);
   EXPECT_LT(r.spacing.rank_correlation, -0.5);
+  // No plate here: curvature sets every particle's spacing.
+  ASSERT_EQ(int64_t(r.stats.spacing_by_thickness.size()), r.stats.particles);
+  EXPECT_EQ(std::count(r.stats.spacing_by_thickness.begin(), r.stats.spacing_by_thickness.end(), uint8_t(1)), 0);
 }
 
 // The restricted Delaunay mesh of the particles: closed, oriented, the right genus, on
@@ -410,8 +414,12 @@ TEST(Particles, ThinPlateIsNotBridged) {
                 "%lld bridging, %lld components, closed %d\n",
                 factor, (long long)st.particles, (long long)st.thickness_bound, (long long)rs.repair_points,
                 m.triangles.size(), (long long)bridging, (long long)topo.components, int(topo.closed));
+    // Which bound sets each final particle's spacing: the wall's thickness, with the bound.
+    ASSERT_EQ(int64_t(st.spacing_by_thickness.size()), st.particles);
+    const int64_t by_wall = std::count(st.spacing_by_thickness.begin(), st.spacing_by_thickness.end(), uint8_t(1));
     if (factor == 1.0) {
       EXPECT_GT(st.thickness_bound, st.particles / 2);
+      EXPECT_GT(by_wall, st.particles / 2);
       EXPECT_EQ(bridging, 0);
       EXPECT_EQ(topo.components, 2);
       EXPECT_TRUE(topo.closed);
@@ -421,6 +429,7 @@ TEST(Particles, ThinPlateIsNotBridged) {
       // the repulsion across the 1.5 mm wall then drives births and deaths, and the count
       // does not settle; the triangulation still separated the sheets in this case.)
       EXPECT_EQ(st.thickness_bound, 0);
+      EXPECT_EQ(by_wall, 0);
     }
   }
 }
