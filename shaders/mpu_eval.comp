@@ -21,7 +21,7 @@ layout(push_constant) uniform Push { MpuPush pc; };
 void main() {
   uint i = linear_invocation(pc.row);
   if (i >= pc.count) return;
-  MpuSample s = mpu_evaluate_opt(points[i].xyz, pc.value_only == 0u);
+  MpuSample s = mpu_evaluate_opt(points[i].xyz, pc.value_only == 0u ? MPU_BLENDED_HESSIAN : MPU_NO_HESSIAN);
   fg[i] = vec4(s.f, s.g);
-  if (pc.value_only == 0u) curv[i] = mpu_curvature(s.g, s.Hb);
+  if (pc.value_only == 0u) curv[i] = mpu_curvature(s.g, s.H);
 }

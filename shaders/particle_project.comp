@@ -26,7 +26,7 @@ void main() {
   float sigma = pos_new[i].w;
   bool ok = true;
   for (uint k = 0u; k + 1u < pc.newton_steps; ++k) {
-    MpuSample s = mpu_evaluate_opt(x, false);
+    MpuSample s = mpu_evaluate_opt(x, MPU_NO_HESSIAN);
     float g2 = dot(s.g, s.g);
     ok = ok && g2 > 0.0 && s.leaves > 0u;
     vec3 step = ok ? -s.f / g2 * s.g : vec3(0.0);
@@ -34,9 +34,9 @@ void main() {
     if (len > sigma) step *= sigma / len;
     x += step;
   }
-  // The last Newton step from the evaluation that also gives the normal, and the blended Hessian
-  // for the curvature on a batch's last iteration (as the CPU reference).
-  MpuSample s = mpu_evaluate_opt(x, pc.curvature != 0u);
+  // The last Newton step from the evaluation that also gives the normal, and the Hessian
+  // of f for the curvature weights on a batch's last iteration (as the CPU reference).
+  MpuSample s = mpu_evaluate_opt(x, pc.curvature != 0u ? MPU_HESSIAN : MPU_NO_HESSIAN);
   float g2 = dot(s.g, s.g), g = sqrt(g2);
   if (!ok || !(g > 0.0) || s.leaves == 0u) {
     pos[i] = vec4(x, sigma);
@@ -52,5 +52,5 @@ void main() {
   if (len > sigma) step *= sigma / len;
   pos[i] = vec4(x + step, sigma);
   normal[i] = vec4(s.g / g, (s.f + dot(s.g, step)) / g);
-  if (pc.curvature != 0u) curv[i] = mpu_curvature(s.g, s.Hb);
+  if (pc.curvature != 0u) curv[i] = mpu_curvature(s.g, s.H);
 }

@@ -24,7 +24,7 @@ const int THICKNESS_STEPS = 4, THICKNESS_BISECTIONS = 5;
 
 // Past the far sheet, t along dir · n from x: inward (dir < 0) f is negative until the
 // opposite sheet, outward positive until the next one.
-bool crossed(vec3 x, vec3 n, float dir, float t) { return dir * mpu_evaluate_opt(x + dir * t * n, false).f < 0.0; }
+bool crossed(vec3 x, vec3 n, float dir, float t) { return dir * mpu_evaluate_opt(x + dir * t * n, MPU_NO_HESSIAN).f < 0.0; }
 
 void main() {
   uint i = linear_invocation(pc.row);

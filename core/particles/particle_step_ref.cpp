@@ -209,9 +209,9 @@ void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams&
       const double cap = st.sigma[i];
       const bool ok = newton_project(s, x, p.newton_steps - 1, cap);
       // The last Newton step takes its f and ∇f from the evaluation that also gives the
-      // normal (and the blended Hessian, for the curvature, when asked): one evaluation per
-      // particle and iteration by default.
-      const mpu::Sample e = with_curvature ? mpu::evaluate(s, x) : mpu::evaluate_fg(s, x);
+      // normal (and the Hessian of f, for the curvature weights, when asked): one
+      // evaluation per particle and iteration by default.
+      const mpu::Sample e = with_curvature ? mpu::evaluate_hessian(s, x) : mpu::evaluate_fg(s, x);
       const double g2 = e.g.squaredNorm(), g = std::sqrt(g2);
       if (!ok || !(g > 0) || e.leaves == 0) {
         st.x[i] = x;
@@ -227,7 +227,7 @@ void project_step(const mpu::MpuSurface& s, ParticleState& st, const StepParams&
       st.normal[i] = e.g / g;
       // The linearised f / |∇f| after the step: 0 unless the step was capped.
       st.distance[i] = (e.f + e.g.dot(step)) / g;
-      if (with_curvature) st.curv[i] = mpu::curvature(e);
+      if (with_curvature) st.curv[i] = mpu::curvature(e.g, e.H);
     }
   });
 }

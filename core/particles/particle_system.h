@@ -92,7 +92,7 @@ struct SampleStats {
   // (the smaller of the two bounds at the end; spacing_targets). On the sample CT two
   // thirds of the particles lie on plates thinner than their curvature's spacing: thin
   // plates are flat and sampled densely, so over all particles the spacing rises with |K|
-  // (rank correlation +0.38), while over the others it falls (-0.71).
+  // (rank correlation +0.30), while over the others it falls (-0.74).
   std::vector<uint8_t> spacing_by_thickness;
 };
 

@@ -1,6 +1,7 @@
-// MPU evaluation in GLSL: f, ∇f and the blended Hessian Hb = Σ w ∇²Q / Σ w (the
-// leaves' own Hessians weighted, from which the curvature is taken: see
-// core/mpu/mpu_eval_ref.h) at a point, the leaves found through the lookup grid, each
+// MPU evaluation in GLSL: f, ∇f and a second derivative (the blended Hessian
+// Hb = Σ w ∇²Q / Σ w, the leaves' own Hessians weighted, from which the surface's
+// curvature is taken, or the Hessian of f: see core/mpu/mpu_eval_ref.h) at a point, the
+// leaves found through the lookup grid, each
 // leaf's polynomial evaluated in its own frame scaled by its radius. Mirrors
 // core/mpu/mpu_eval_ref.cpp (evaluate) and core/mpu/local_poly.h; the includer declares
 // the `leaves`, `offsets` and `leaf_ids` buffers and the push block `pc`.
@@ -10,17 +11,22 @@
 struct MpuSample {
   float f;
   vec3 g;
-  mat3 Hb;
+  mat3 H;  // MPU_BLENDED_HESSIAN: Hb; MPU_HESSIAN: the Hessian of f; MPU_NO_HESSIAN: 0
   uint leaves;
 };
 
-// want_h false leaves the second derivatives out (s.Hb stays 0): what Newton steps need.
-// A uniform value (a push constant or a literal), so the branches do not diverge.
-MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
+// The second derivative evaluated with f and ∇f: none (what Newton steps need), the
+// blended Hessian (the surface's curvature: mpu_eval.comp) or the Hessian of f (the
+// particles' curvature weights: particle_project.comp; core/particles/particle_step_ref.h
+// says why). A uniform value (a push constant or a literal), so the branches do not
+// diverge.
+const uint MPU_NO_HESSIAN = 0u, MPU_BLENDED_HESSIAN = 1u, MPU_HESSIAN = 2u;
+
+MpuSample mpu_evaluate_opt(vec3 x, uint second) {
   MpuSample s;
   s.f = pc.far_value;
   s.g = vec3(0.0);
-  s.Hb = mat3(0.0);
+  s.H = mat3(0.0);
   s.leaves = 0u;
   vec3 rel = (x - vec3(pc.box_min_x, pc.box_min_y, pc.box_min_z)) * pc.inv_cell;
   ivec3 c = ivec3(floor(rel));
@@ -31,7 +37,7 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
   bool have_f0 = false;
   float N = 0.0, D = 0.0;
   vec3 gN = vec3(0.0), gD = vec3(0.0);
-  mat3 HbN = mat3(0.0);
+  mat3 HN = mat3(0.0), HD = mat3(0.0);
   for (uint k = first; k < last; ++k) {
     uint b = MPU_LEAF_VEC4 * leaf_ids[k];
     vec4 cr = leaves[b];
@@ -47,8 +53,10 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
     bool inner = t <= 0.5;
     float w = inner ? 0.75 - t * t : 0.5 * (t - 1.5) * (t - 1.5);
     float dw = inner ? -2.0 * t * sc : (t - 1.5) * sc;
-    // ∇w = k1 d (k1 finite at r = 0 on the inner piece).
+    float d2w = inner ? -2.0 * sc * sc : sc * sc;
+    // ∇w = k1 d, Hw = k1 I + k2 d dᵀ (k1 finite at r = 0 on the inner piece).
     float k1 = inner ? -2.0 * sc * sc : dw / r;
+    float k2 = inner ? 0.0 : (d2w - k1) / r2;
     vec3 y = vec3(dot(fu.xyz, d), dot(fv.xyz, d), dot(fw.xyz, d)) * invR;
     vec4 c0 = leaves[b + 4u], c1 = leaves[b + 5u], c2 = leaves[b + 6u], c3 = leaves[b + 7u], c4 = leaves[b + 8u];
     float u = y.x, v = y.y, ww = y.z;
@@ -78,13 +86,19 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
     D += w;
     gN += Qs * gw3 + w * gQ;
     gD += gw3;
-    if (want_h) {
+    if (second != MPU_NO_HESSIAN) {
       float huu = 2.0 * c0.w + 6.0 * c1.z * u + 2.0 * c1.w * v + 12.0 * c2.z * u2 + 6.0 * c2.w * uv + 2.0 * c3.x * v2;
       float huv = c1.x + 2.0 * c1.w * u + 2.0 * c2.x * v + 3.0 * c2.w * u2 + 4.0 * c3.x * uv + 3.0 * c3.y * v2;
       float hvv = 2.0 * c1.y + 2.0 * c2.x * u + 6.0 * c2.y * v + 2.0 * c3.x * u2 + 6.0 * c3.y * uv + 12.0 * c3.z * v2;
       mat3 Hq = mat3(huu, huv, c4.y, huv, hvv, c4.z, c4.y, c4.z, 2.0 * c4.x);
       mat3 HQ = Mt * Hq * transpose(Mt) * invR;
-      HbN += w * HQ;
+      if (second == MPU_BLENDED_HESSIAN) {
+        HN += w * HQ;
+      } else {
+        mat3 Hw = mat3(k1) + k2 * outerProduct(d, d);
+        HN += Qs * Hw + outerProduct(gw3, gQ) + outerProduct(gQ, gw3) + w * HQ;
+        HD += Hw;
+      }
     }
     s.leaves += 1u;
   }
@@ -95,11 +109,12 @@ MpuSample mpu_evaluate_opt(vec3 x, bool want_h) {
   float fs = N / D;
   s.f = f0 + fs;
   s.g = (gN - fs * gD) / D;
-  if (want_h) s.Hb = HbN / D;
+  if (second == MPU_BLENDED_HESSIAN) s.H = HN / D;
+  if (second == MPU_HESSIAN) s.H = (HN - fs * HD - outerProduct(s.g, gD) - outerProduct(gD, s.g)) / D;
   return s;
 }
 
-MpuSample mpu_evaluate(vec3 x) { return mpu_evaluate_opt(x, true); }
+MpuSample mpu_evaluate(vec3 x) { return mpu_evaluate_opt(x, MPU_BLENDED_HESSIAN); }
 
 // Principal curvatures after Kindlmann et al. (2003): κ1, κ2, K, mean.
 vec4 mpu_curvature(vec3 g, mat3 H) {

@@ -250,10 +250,10 @@ TEST(Cli, RunOnTheSampleCt) {
   EXPECT_GT(j["triangles"].get<int64_t>(), 30000);
   EXPECT_GT(q["components"].get<int64_t>(), 10);  // the skull's separate bones
   // Where curvature, not a plate's thickness, sets the spacing, the spacing falls as |K|
-  // rises (4,743 of 20,032 particles: rank correlation -0.51, median spacing at the highest
-  // tenth of |K| 0.84 times that at the lowest; at the default 40,000, 16,054 particles,
-  // -0.71 and 0.46). Over all particles, the skull's thin plates, flat and sampled at
-  // their thickness, make it +0.23.
+  // rises (4,036 of 19,768 particles: rank correlation -0.54, median spacing at the highest
+  // tenth of |K| 0.82 times that at the lowest; at the default 40,000, 14,669 of 45,733
+  // particles, -0.74 and 0.43). Over all particles, the skull's thin plates, flat and
+  // sampled at their thickness, make it +0.15 (+0.30 at the default).
   const auto& curved = j["particles"]["spacing_where_curvature_sets"];
   EXPECT_GT(curved["particles"].get<int64_t>(), 1000);
   EXPECT_LT(curved["rank_correlation_with_abs_K"].get<double>(), -0.3);
