@@ -28,8 +28,8 @@
 //      densely. With the blended Hessian the full-resolution CT at the default count
 //      (scripts/bench_large.sh) had a triangle under 15° in 6 of 24 seeds (5.7-14.1°,
 //      at the rims of plates thinner than the sampling), against 1 of 24 (9.5°) with the
-//      Hessian of f; finer thickness searches (8 or 16 steps) and re-triangulating the
-//      polygon of the repair point at such a needle mended a part of them, not all.
+//      Hessian of f; finer thickness searches (8 or 16 steps) mended a part of them, and
+//      re-triangulating the polygon of the repair point at such a needle 1 of 5.
 // The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
 // particle's target radius instead (particle_population.h), which is the reading that
 // makes high curvature denser (see DESIGN.md): scaling E_i and Ê alike would change the
