@@ -3,6 +3,11 @@
 #include <cstdlib>
 #include <cstring>
 
+#ifdef MPUMESH_KEEP_DRIVERS_LOADED
+#include <dlfcn.h>
+#include <link.h>
+#endif
+
 #include "vk/vk_check.h"
 
 namespace mpumesh::vk {
@@ -33,6 +38,29 @@ int type_rank(const std::string& t) {
   return 4;
 }
 
+#ifdef MPUMESH_KEEP_DRIVERS_LOADED
+// Sanitized builds only (MPUMESH_SANITIZE): every shared library in the process, the
+// Vulkan drivers and layers the loader has just opened among them, is marked
+// RTLD_NODELETE so that vkDestroyInstance's dlclose leaves it mapped until exit.
+// LeakSanitizer then still sees the driver's globals (lavapipe keeps a realloc'd
+// 128-byte table in one for the whole process) and can name the module of what is left,
+// so scripts/sanitize.sh's suppressions apply; without this a driver's live memory is
+// reported as a direct leak from an "<unknown module>".
+void keep_loaded_libraries() {
+  std::vector<std::string> names;
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void* out) {
+        if (info->dlpi_name && *info->dlpi_name) static_cast<std::vector<std::string>*>(out)->push_back(info->dlpi_name);
+        return 0;
+      },
+      &names);
+  for (const auto& n : names)
+    if (void* h = dlopen(n.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE)) dlclose(h);
+}
+#else
+void keep_loaded_libraries() {}
+#endif
+
 bool layer_available(const char* name) {
   uint32_t n = 0;
   vkEnumerateInstanceLayerProperties(&n, nullptr);
@@ -62,6 +90,7 @@ VkInstance make_instance(bool validation) {
     throw NoVulkanDevice(std::string("no Vulkan driver found (vkCreateInstance: ") + result_name(r) +
                          "); install mesa-vulkan-drivers for the software device");
   VK_CHECK(r);
+  keep_loaded_libraries();
   return inst;
 }
 
@@ -195,6 +224,7 @@ Context::Context(const ContextOptions& opt) {
     VkResult r = vkCreateDevice(physical_, &di, nullptr, &device_);
     if (r != VK_SUCCESS)
       throw NoVulkanDevice("cannot create a Vulkan device on '" + info_.name + "': " + result_name(r));
+    keep_loaded_libraries();
     vkGetDeviceQueue(device_, family, 0, &queue_);
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
