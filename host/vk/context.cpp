@@ -38,15 +38,15 @@ int type_rank(const std::string& t) {
   return 4;
 }
 
+// vkDestroyInstance, which unloads the drivers and layers the instance opened. Sanitized
+// builds (MPUMESH_SANITIZE) first mark every shared library in the process RTLD_NODELETE,
+// so that those stay mapped until exit: LeakSanitizer then still sees the drivers'
+// globals (lavapipe keeps a realloc'd 128-byte table in one for the whole process) and
+// can name the module of what is left, so scripts/sanitize.sh's suppressions apply;
+// otherwise a driver's live memory is reported as a direct leak from an
+// "<unknown module>".
+void destroy_instance(VkInstance inst) {
 #ifdef MPUMESH_KEEP_DRIVERS_LOADED
-// Sanitized builds only (MPUMESH_SANITIZE): every shared library in the process, the
-// Vulkan drivers and layers the loader has just opened among them, is marked
-// RTLD_NODELETE so that vkDestroyInstance's dlclose leaves it mapped until exit.
-// LeakSanitizer then still sees the driver's globals (lavapipe keeps a realloc'd
-// 128-byte table in one for the whole process) and can name the module of what is left,
-// so scripts/sanitize.sh's suppressions apply; without this a driver's live memory is
-// reported as a direct leak from an "<unknown module>".
-void keep_loaded_libraries() {
   std::vector<std::string> names;
   dl_iterate_phdr(
       [](dl_phdr_info* info, size_t, void* out) {
@@ -56,10 +56,9 @@ void keep_loaded_libraries() {
       &names);
   for (const auto& n : names)
     if (void* h = dlopen(n.c_str(), RTLD_LAZY | RTLD_NOLOAD | RTLD_NODELETE)) dlclose(h);
-}
-#else
-void keep_loaded_libraries() {}
 #endif
+  vkDestroyInstance(inst, nullptr);
+}
 
 bool layer_available(const char* name) {
   uint32_t n = 0;
@@ -90,7 +89,6 @@ VkInstance make_instance(bool validation) {
     throw NoVulkanDevice(std::string("no Vulkan driver found (vkCreateInstance: ") + result_name(r) +
                          "); install mesa-vulkan-drivers for the software device");
   VK_CHECK(r);
-  keep_loaded_libraries();
   return inst;
 }
 
@@ -149,7 +147,7 @@ std::vector<DeviceInfo> list_devices() {
     for (size_t i = 0; i < pds.size(); ++i) out.push_back(describe(pds[i], int(i)));
   } catch (const std::exception&) {
   }
-  vkDestroyInstance(inst, nullptr);
+  destroy_instance(inst);
   return out;
 }
 
@@ -224,7 +222,6 @@ Context::Context(const ContextOptions& opt) {
     VkResult r = vkCreateDevice(physical_, &di, nullptr, &device_);
     if (r != VK_SUCCESS)
       throw NoVulkanDevice("cannot create a Vulkan device on '" + info_.name + "': " + result_name(r));
-    keep_loaded_libraries();
     vkGetDeviceQueue(device_, family, 0, &queue_);
     VkCommandPoolCreateInfo pi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
     pi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -249,7 +246,7 @@ void Context::destroy() {
         vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));
     if (destroy_messenger) destroy_messenger(instance_, messenger_, nullptr);
   }
-  if (instance_) vkDestroyInstance(instance_, nullptr);
+  if (instance_) destroy_instance(instance_);
   device_ = VK_NULL_HANDLE;
   pool_ = VK_NULL_HANDLE;
   messenger_ = VK_NULL_HANDLE;
