@@ -10,7 +10,7 @@ build=${FUZZ_BUILD_DIR:-build-fuzz}
 CC=clang CXX=clang++ cmake -S . -B "$build" -G Ninja -DMPUMESH_FUZZ_ONLY=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build "$build" -j "$(nproc)"
 mkdir -p "$build/artifacts"
-for t in mpu mesh points plist inv3 dicom; do
+for t in mpu mesh points plist inv3 dicom volume; do
   work="$build/corpus/$t"
   mkdir -p "$work"
   if [ -d "tests/fuzz/regressions/$t" ]; then

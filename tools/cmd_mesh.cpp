@@ -44,7 +44,8 @@ nlohmann::json run_mc(const MeshJob& job, const CommonOptions& common, Progress&
   j["input"] = {{"path", job.input},
                 {"dims", vol.dims},
                 {"spacing_mm", {vol.spacing.x(), vol.spacing.y(), vol.spacing.z()}},
-                {"modality", vol.modality}};
+                {"modality", vol.modality},
+                {"read_notes", vol.read_notes}};
   j["threshold"] = {{"lo", range.lo}, {"hi", std::isinf(range.hi) ? nlohmann::json() : nlohmann::json(range.hi)}};
   j["backend"] = backend_json(choice);
   j["kernel_ms"] = choice.backend->kernel_ms();

@@ -333,7 +333,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                       {"kind", "volume"},
                       {"dims", vol.dims},
                       {"spacing_mm", {vol.spacing.x(), vol.spacing.y(), vol.spacing.z()}},
-                      {"modality", vol.modality}};
+                      {"modality", vol.modality},
+                      {"read_notes", vol.read_notes}};
         j["segmentation"] = segment_json(sv.options, sv.segmentation);
         choice = std::move(sv.backend);
         if (!o->html.empty()) {
@@ -447,6 +448,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                     << quality_to_text(q);
       }
       j["notes"] = nlohmann::json::array();
+      if (j["input"].contains("read_notes"))
+        for (const auto& n : j["input"]["read_notes"]) j["notes"].push_back(n);
       if (sparse(tst, ps.size())) {
         const particles::SampleOptions more_opt = denser(so);
         const std::string more = more_opt.spacing > 0 ? fmt::format("--spacing {:.2f}", more_opt.spacing)

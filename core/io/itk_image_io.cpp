@@ -24,6 +24,8 @@
 #include "common/error.h"
 #include "io/atomic_file.h"
 #include "io/dicom_pixel_check.h"
+#include "io/library_messages.h"
+#include "io/volume_integrity.h"
 
 namespace mpumesh {
 namespace {
@@ -208,7 +210,10 @@ bool fits_int16(const PlainVolume& v) {
 
 PlainVolume itk_read_dicom_series(const std::string& dir) {
   try {
-    return read_series_impl(dir);
+    LibraryMessages messages;
+    PlainVolume v = read_series_impl(dir);
+    v.notes = messages.take(dir);
+    return v;
   } catch (const itk::ExceptionObject& e) {
     throw InputError(dir + ": cannot read the DICOM series: " + std::string(e.GetDescription()));
   }
@@ -222,6 +227,8 @@ PlainVolume itk_read_file(const std::string& path) {
                             ".nrrd, .mha, .mhd or .inv3)");
   std::error_code ec;
   if (fs::file_size(path, ec) == 0) throw InputError(path + ": file is empty");
+  check_volume_file(path);
+  LibraryMessages messages;  // from the first look at the file to the last voxel
   if (!io->CanReadFile(path.c_str()))
     throw InputError(path + ": not a valid " + io->GetNameOfClass() + " file (wrong magic or header)");
   if (dynamic_cast<itk::GDCMImageIO*>(io.GetPointer())) check_dicom_pixel_data_file(path);
@@ -235,6 +242,7 @@ PlainVolume itk_read_file(const std::string& path) {
       v.modality = dicom_tag(g->GetMetaDataDictionary(), "0008|0060");
       while (!v.modality.empty() && v.modality.back() == ' ') v.modality.pop_back();
     }
+    v.notes = messages.take(path);
     return v;
   } catch (const itk::ExceptionObject& e) {
     throw InputError(path + ": cannot read volume: " + std::string(e.GetDescription()));

@@ -16,8 +16,11 @@ struct PlainVolume {
   std::array<double, 9> direction{1, 0, 0, 0, 1, 0, 0, 0, 1};
   std::vector<float> voxels;
   std::string modality;
+  std::vector<std::string> notes;  // what the libraries said while reading, harmless
 };
 
+// Both readers collect what ITK and GDCM say (io/library_messages.h): damage is an
+// InputError, the rest are notes. Files are checked first (io/volume_integrity.h).
 // A directory holding one DICOM series: slices sorted along the slice normal, rescale
 // applied, irregular or duplicate slice positions refused.
 PlainVolume itk_read_dicom_series(const std::string& dir);

@@ -27,6 +27,7 @@ Volume from_plain(PlainVolume&& p, const std::string& source) {
   }
   v.voxels = std::move(p.voxels);
   v.modality = std::move(p.modality);
+  v.read_notes = std::move(p.notes);
   return v;
 }
 

@@ -19,6 +19,7 @@ struct Volume {
   std::vector<float> voxels;              // dims[0]*dims[1]*dims[2] values
   std::string modality;                   // "CT", "MR", ... when the file says
   std::string source;                     // the path it was read from
+  std::vector<std::string> read_notes;    // harmless things the file's reader said
 
   int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
   int64_t index(int64_t i, int64_t j, int64_t k) const { return i + dims[0] * (j + dims[1] * k); }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -71,6 +72,43 @@ TEST(BadInput, FilesThatAreNotWhatTheyClaim) {
   MPUMESH_DATA_OR_SKIP(slice, test::pydicom_file("CT_small.dcm"), "python3-pydicom");
   expect_failure("run " + slice + " -o " + out, "a 2D image (128 x 128 x 1 voxels)", out);
   expect_failure("segment " + slice + " -o " + dir + "/m.nii", "a 2D image", dir + "/m.nii");
+}
+
+// A cut or corrupted volume is refused by every command that reads one, and the output a
+// good run wrote before is left as it was.
+TEST(BadInput, DamagedVolumesNeverReplaceAGoodOutput) {
+  const std::string dir = test::temp_dir("damaged");
+  const std::string out = dir + "/out.ply", report = dir + "/out.json";
+  const Volume v = test::sphere_volume({30, 28, 12}, {0.6, 0.6, 2.0}, {9, 8, 12}, 6.0);
+  write_volume(v, dir + "/ball.nii");
+  write_volume(v, dir + "/ball.nii.gz");
+  ASSERT_EQ(run("run " + dir + "/ball.nii --threshold 0 --backend cpu --quiet -o " + out + " --report " + report).code,
+            0);
+  const std::string good = read_file(out), good_report = read_file(report);
+  auto damaged = [&](const std::string& from, const std::string& name, bool truncate) {
+    std::string b = read_file(dir + "/" + from);
+    if (truncate) b.resize(b.size() * 2 / 3);
+    else
+      for (size_t i = 0; i < 4; ++i) b[b.size() / 2 + i] = char(~b[b.size() / 2 + i]);
+    std::ofstream(dir + "/" + name, std::ios::binary) << b;
+    return dir + "/" + name;
+  };
+  const std::string cut = damaged("ball.nii", "cut.nii", true), flipped = damaged("ball.nii.gz", "flip.nii.gz", false);
+  for (const auto& [in, words] : {std::pair{cut, std::string("cut.nii: data end after")},
+                                  std::pair{flipped, std::string("flip.nii.gz: compressed data corrupt")}}) {
+    for (const std::string cmd : {"run", "mc"}) {
+      const Result r = run(cmd + " " + in + " --threshold 0 --backend cpu -o " + out +
+                           (cmd == "run" ? " --report " + report : ""));
+      EXPECT_EQ(r.code, 1) << r.out;
+      EXPECT_NE(r.out.find("mpumesh: error: " + dir), std::string::npos) << r.out;
+      EXPECT_NE(r.out.find(words), std::string::npos) << r.out;
+      EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+      EXPECT_EQ(read_file(out), good) << cmd << " " << in;
+      EXPECT_EQ(read_file(report), good_report) << cmd << " " << in;
+    }
+    expect_failure("convert " + in + " -o " + dir + "/copy.mha", words, dir + "/copy.mha");
+    expect_failure("segment " + in + " --threshold 0 -o " + dir + "/mask.nii", words, dir + "/mask.nii");
+  }
 }
 
 TEST(BadInput, VolumesWithoutASurface) {
