@@ -246,7 +246,7 @@ constexpr double kRaise = 1.5;
 
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
   struct Opts {
-    std::string input, output, report, html, local_fit = "orthopoly";
+    std::string input, output, report, html, surface, local_fit = "orthopoly";
     SegmentCli seg;
     mpu::FitOptions fit;
     particles::SampleOptions sample;
@@ -262,6 +262,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       ->required();
   cmd->add_option("-o,--output", o->output, "mesh: .ply, .stl, .obj or .off")->required();
   cmd->add_option("--report", o->report, "write the JSON report here");
+  cmd->add_option("--surface", o->surface, "write the fitted implicit surface here (.mpu), e.g. for `polygonize`");
   cmd->add_option("--html", o->html,
                   "write the HTML report here: renders, the comparison with marching cubes and the original MPU, "
                   "histograms, stage times");
@@ -284,6 +285,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       check_writable(o->output);
       mesh_format_from_path(o->output);
       if (!o->report.empty()) check_writable(o->report);
+      if (!o->surface.empty()) check_writable(o->surface);
       if (!o->html.empty()) {
         check_writable(o->html);
         if (lower_extension(o->html) != ".html") throw InputError(o->html + ": the HTML report must be a .html file");
@@ -424,6 +426,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                                " of the triangulation or its normal is not finite; nothing written");
       progress.begin("write mesh");
       write_mesh(mesh, o->output);
+      if (!o->surface.empty()) write_mpu(s, o->surface);
       progress.end();
       j["fit"] = fit_json(o->fit, fit_stats);
       j["particles"] = sample_json(so, sst, ps);

@@ -1,0 +1,62 @@
+// CT-like phantoms with analytic truth, for the tests and mpumesh_bench_truth. A shape
+// (ellipsoid, torus, capsule = cylinder with hemispherical caps, spherical shell) is
+// placed by a rotation and a centre, so that it lies tilted against the slices. It knows
+// the distance of a point to its surface and the outward normal and Gaussian curvature
+// at the closest surface point. A scan of it is what a CT gives: every voxel the mean of
+// the shape's indicator over the voxel's box (in-plane pixel and slice thickness,
+// supersampled: partial volume), scaled to the contrast, plus Gaussian noise.
+#pragma once
+
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "volume/volume.h"
+
+namespace mpumesh::phantom {
+
+struct Shape {
+  enum Kind { kEllipsoid, kTorus, kCapsule, kShell } kind = kEllipsoid;
+  // Ellipsoid: semi-axes a, b, c. Torus about local z: major radius a, minor b.
+  // Capsule along local z: radius a, cylinder half-length b. Shell: outer radius a,
+  // thickness b (two surfaces: the outer sphere and the inner one, normals out of the
+  // material).
+  double a = 20, b = 20, c = 20;
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // local to world
+  Eigen::Vector3d centre{0, 0, 0};
+
+  bool inside(const Eigen::Vector3d& p) const;
+  // Unsigned distance to the surface; the outward normal and K at the closest point.
+  double distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal = nullptr, double* gauss = nullptr) const;
+  // Half the extent of the local bounding box (before rotation).
+  Eigen::Vector3d half_extent() const;
+  // The largest |K| on the surface (for errors relative to it).
+  double max_abs_gauss() const;
+  // For the capsule: whether the closest surface point lies on a cap (else the barrel).
+  bool on_cap(const Eigen::Vector3d& p) const;
+};
+
+struct Scan {
+  Eigen::Vector3d spacing{0.6, 0.6, 2.0};  // in-plane pixel and slice thickness, mm
+  double inside_hu = 1000, outside_hu = 0, noise_hu = 50;
+  uint32_t seed = 1;
+  double margin_mm = 6;
+  int sub_xy = 4, sub_z = 8;  // supersamples per voxel box
+};
+
+// The scanned volume (CT, HU) and the threshold halfway between the two levels.
+Volume scan(const Shape& s, const Scan& c);
+inline double half_level(const Scan& c) { return 0.5 * (c.inside_hu + c.outside_hu); }
+
+struct Phantom {
+  std::string name;
+  Shape shape;
+  Scan scan;
+};
+
+// The suite: an ellipsoid, a torus, a capsule and a 2.5 mm spherical shell, 40-70 mm
+// across, tilted against the slices; in-plane pixels of 0.5-0.7 mm, slices 3-3.6 times
+// thicker, noise of 40-60 HU at 1000 HU contrast.
+std::vector<Phantom> suite();
+
+}  // namespace mpumesh::phantom

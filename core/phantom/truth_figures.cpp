@@ -1,0 +1,147 @@
+#include "phantom/truth_figures.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace mpumesh::phantom {
+namespace {
+
+std::vector<double> ranks(const std::vector<double>& x) {
+  std::vector<size_t> o(x.size());
+  std::iota(o.begin(), o.end(), size_t(0));
+  std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return x[a] < x[b]; });
+  std::vector<double> r(x.size());
+  for (size_t i = 0; i < o.size();) {
+    size_t j = i;
+    while (j + 1 < o.size() && x[o[j + 1]] == x[o[i]]) ++j;
+    for (size_t t = i; t <= j; ++t) r[o[t]] = 0.5 * double(i + j);
+    i = j + 1;
+  }
+  return r;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+double weighted_quantile(const std::vector<double>& x, const std::vector<double>& w, double q) {
+  std::vector<size_t> o(x.size());
+  std::iota(o.begin(), o.end(), size_t(0));
+  std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return x[a] < x[b]; });
+  const double total = std::accumulate(w.begin(), w.end(), 0.0);
+  double acc = 0;
+  for (size_t i : o)
+    if ((acc += w[i]) >= q * total) return x[i];
+  return o.empty() ? 0 : x[o.back()];
+}
+
+// The mesh's discrete Gaussian curvature: 2π minus the angles at a vertex, over a third
+// of the area of its triangles.
+std::vector<double> discrete_gauss(const TriangleMesh& m) {
+  std::vector<double> deficit(m.vertices.size(), 2 * 3.14159265358979), area(m.vertices.size(), 0);
+  for (const auto& t : m.triangles) {
+    const double a3 = 0.5 * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm() / 3;
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d e1 = m.vertices[t[(c + 1) % 3]] - m.vertices[t[c]];
+      const Eigen::Vector3d e2 = m.vertices[t[(c + 2) % 3]] - m.vertices[t[c]];
+      deficit[t[c]] -= std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      area[t[c]] += a3;
+    }
+  }
+  for (size_t i = 0; i < deficit.size(); ++i) deficit[i] = area[i] > 0 ? deficit[i] / area[i] : 0;
+  return deficit;
+}
+
+// Mean length of the edges at each vertex.
+std::vector<double> vertex_spacing(const TriangleMesh& m) {
+  std::vector<double> sum(m.vertices.size(), 0), n(m.vertices.size(), 0);
+  for (const auto& t : m.triangles)
+    for (int c = 0; c < 3; ++c) {
+      const uint32_t a = t[c], b = t[(c + 1) % 3];
+      const double l = (m.vertices[a] - m.vertices[b]).norm();
+      sum[a] += l, sum[b] += l, n[a] += 1, n[b] += 1;
+    }
+  for (size_t i = 0; i < sum.size(); ++i) sum[i] = n[i] > 0 ? sum[i] / n[i] : 0;
+  return sum;
+}
+
+}  // namespace
+
+double spearman(const std::vector<double>& x, const std::vector<double>& y) {
+  const std::vector<double> rx = ranks(x), ry = ranks(y);
+  const double mx = std::accumulate(rx.begin(), rx.end(), 0.0) / double(rx.size());
+  const double my = std::accumulate(ry.begin(), ry.end(), 0.0) / double(ry.size());
+  double sxy = 0, sxx = 0, syy = 0;
+  for (size_t i = 0; i < rx.size(); ++i) {
+    sxy += (rx[i] - mx) * (ry[i] - my);
+    sxx += (rx[i] - mx) * (rx[i] - mx);
+    syy += (ry[i] - my) * (ry[i] - my);
+  }
+  return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0;
+}
+
+TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
+  TruthFigures f;
+  const size_t nv = m.vertices.size(), nt = m.triangles.size();
+  f.vertices = int64_t(nv), f.triangles = int64_t(nt);
+  if (nv == 0 || nt == 0) return f;
+  std::vector<double> dist(nv), gauss(nv);
+  tbb::parallel_for(size_t(0), nv, [&](size_t i) { dist[i] = shape.distance(m.vertices[i], nullptr, &gauss[i]); });
+  std::vector<double> angle(nt), area(nt);
+  tbb::parallel_for(size_t(0), nt, [&](size_t i) {
+    const auto& t = m.triangles[i];
+    const Eigen::Vector3d c = (m.vertices[t[0]] + m.vertices[t[1]] + m.vertices[t[2]]) / 3;
+    const Eigen::Vector3d cr = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+    Eigen::Vector3d n;
+    shape.distance(c, &n);
+    area[i] = 0.5 * cr.norm();
+    angle[i] = area[i] > 0 ? std::acos(std::clamp(cr.normalized().dot(n), -1.0, 1.0)) * 180 / 3.14159265358979 : 0;
+  });
+  f.distance_mean = std::accumulate(dist.begin(), dist.end(), 0.0) / double(nv);
+  f.distance_p99 = weighted_quantile(dist, std::vector<double>(nv, 1.0), 0.99);
+  double sa = 0, sw = 0;
+  for (size_t i = 0; i < nt; ++i) sa += area[i] * angle[i], sw += area[i];
+  f.normal_mean_deg = sw > 0 ? sa / sw : 0;
+  f.normal_p95_deg = weighted_quantile(angle, area, 0.95);
+
+  f.curvature_from_file = m.curvature.size() == nv;
+  std::vector<double> k(nv);
+  if (f.curvature_from_file)
+    for (size_t i = 0; i < nv; ++i) k[i] = m.curvature[i][2];
+  else
+    k = discrete_gauss(m);
+  f.gauss_rank = spearman(k, gauss);
+  std::vector<double> err(nv);
+  for (size_t i = 0; i < nv; ++i) err[i] = std::abs(k[i] - gauss[i]);
+  f.gauss_median_error = median(err) / shape.max_abs_gauss();
+
+  const std::vector<double> spacing = vertex_spacing(m);
+  std::vector<double> absk(nv);
+  for (size_t i = 0; i < nv; ++i) absk[i] = std::abs(gauss[i]);
+  f.spacing_rank = spearman(spacing, absk);
+  std::vector<size_t> o(nv);
+  std::iota(o.begin(), o.end(), size_t(0));
+  std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return absk[a] < absk[b]; });
+  const size_t tenth = std::max<size_t>(1, nv / 10);
+  std::vector<double> low, high;
+  for (size_t i = 0; i < tenth; ++i) low.push_back(spacing[o[i]]), high.push_back(spacing[o[nv - 1 - i]]);
+  f.spacing_high_low = median(high) / std::max(1e-12, median(low));
+
+  if (shape.kind == Shape::kCapsule) {
+    std::vector<double> kc, kb, sc, sb;
+    for (size_t i = 0; i < nv; ++i) {
+      const bool cap = shape.on_cap(m.vertices[i]);
+      (cap ? kc : kb).push_back(k[i]);
+      (cap ? sc : sb).push_back(spacing[i]);
+    }
+    f.cap_gauss = median(kc), f.barrel_gauss = median(kb), f.cap_spacing = median(sc), f.barrel_spacing = median(sb);
+  }
+  return f;
+}
+
+}  // namespace mpumesh::phantom

@@ -1,0 +1,34 @@
+// A written mesh against a phantom's analytic surface: how far its vertices lie from the
+// surface, how far its faces' normals turn from the true ones, how well its curvature
+// follows the true Gaussian curvature, and how its spacing follows the true |K|. Nothing
+// here comes from the product's fit: the truth is the shape's closed form; the mesh's
+// curvature is the K its PLY carries when it has one, else the mesh's own discrete K
+// (angle deficit over a third of the incident area).
+#pragma once
+
+#include <string>
+
+#include "mesh/triangle_mesh.h"
+#include "phantom/ct_phantom.h"
+
+namespace mpumesh::phantom {
+
+struct TruthFigures {
+  int64_t vertices = 0, triangles = 0;
+  double distance_mean = 0, distance_p99 = 0;     // mm, over vertices
+  double normal_mean_deg = 0, normal_p95_deg = 0;  // faces, area-weighted
+  bool curvature_from_file = false;                // the PLY's K (else discrete)
+  double gauss_rank = 0;                           // Spearman of the mesh's K with the true K
+  double gauss_median_error = 0;                   // median |K - K_true| / max |K_true|
+  double spacing_high_low = 0;                     // median spacing, highest tenth of |K| / lowest tenth
+  double spacing_rank = 0;                         // Spearman of spacing with the true |K|
+  // Capsule only: the parts' median K (1/mm²) and spacing (mm).
+  double cap_gauss = 0, barrel_gauss = 0, cap_spacing = 0, barrel_spacing = 0;
+};
+
+TruthFigures truth_figures(const TriangleMesh& mesh, const Shape& shape);
+
+// Spearman's rank correlation (ties get their mean rank); 0 when either side is constant.
+double spearman(const std::vector<double>& x, const std::vector<double>& y);
+
+}  // namespace mpumesh::phantom

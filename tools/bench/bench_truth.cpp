@@ -1,0 +1,113 @@
+// Benchmark: accuracy against analytic truth on the CT-like phantoms (core/phantom).
+// Each phantom is scanned (partial volume, noise, thick slices, tilt), written as NIfTI
+// and meshed as a user meshes it: `mpumesh run VOLUME --threshold T` at the defaults
+// (ours; it also writes its fitted surface), `mpumesh mc` (marching cubes), `mpumesh
+// polygonize` of our surface (the original MPU mesh), and CGAL Mesh_3 on the gray image
+// with its facet size set so that it makes as many triangles as ours. Every figure is
+// computed from the mesh file read back and the shape's closed form
+// (core/phantom/truth_figures.h): distance to the true surface (mean, p99), normal error
+// (area-weighted mean, p95), curvature against the true K (rank correlation, median
+// error over the largest |K|; ours from the K its PLY carries, the others from their
+// discrete K), and spacing against the true |K| (median spacing of the highest tenth of
+// |K| over the lowest tenth, rank correlation).
+// Usage:
+//   mpumesh_bench_truth [cpu|gpu|auto] [PHANTOM ...]
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cgal_mesh3_peer.h"
+#include "io/mesh_io.h"
+#include "io/read_file.h"
+#include "io/volume_io.h"
+#include "phantom/ct_phantom.h"
+#include "phantom/truth_figures.h"
+
+using namespace mpumesh;
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double sec_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double timed_system(const std::string& cmd) {
+  const auto t0 = Clock::now();
+  if (std::system(cmd.c_str()) != 0) {
+    std::fprintf(stderr, "bench_truth: failed: %s\n", cmd.c_str());
+    std::exit(1);
+  }
+  return sec_since(t0);
+}
+
+void print_row(const std::string& name, const phantom::TruthFigures& f, double seconds) {
+  fmt::print("  {:<16} {:>7} {:>7.3f} {:>6.3f} {:>7.2f} {:>6.2f} {:>7.3f}{} {:>7.3f} {:>7.2f} {:>7.2f} {:>7.1f}\n", name,
+             f.triangles, f.distance_mean, f.distance_p99, f.normal_mean_deg, f.normal_p95_deg, f.gauss_rank,
+             f.curvature_from_file ? "f" : "d", f.gauss_median_error, f.spacing_high_low, f.spacing_rank, seconds);
+  if (f.cap_spacing > 0)
+    fmt::print("  {:<16} caps K {:.5f}, barrel K {:.5f} (1/mm2); spacing caps {:.3f} mm, barrel {:.3f} mm ({:.2f})\n",
+               "", f.cap_gauss, f.barrel_gauss, f.cap_spacing, f.barrel_spacing, f.cap_spacing / f.barrel_spacing);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string backend = argc > 1 ? argv[1] : "cpu";
+  std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
+  const std::string bin = MPUMESH_BIN;
+  const std::filesystem::path root = std::filesystem::temp_directory_path() / "mpumesh_bench_truth";
+  std::filesystem::create_directories(root);
+  fmt::print("columns: triangles, distance to the truth mean / p99 (mm), normal error mean / p95 (deg), K rank "
+             "correlation (f: the PLY's K, d: discrete K), K median error / max|K|, spacing high/low |K| tenth, "
+             "spacing rank correlation with |K|, seconds\n");
+  for (const auto& ph : phantom::suite()) {
+    if (!only.empty() && std::find(only.begin(), only.end(), ph.name) == only.end()) continue;
+    const std::filesystem::path dir = root / ph.name;
+    std::filesystem::create_directories(dir);
+    const Volume vol = phantom::scan(ph.shape, ph.scan);
+    const std::string nii = (dir / "scan.nii.gz").string();
+    write_volume(vol, nii);
+    const double iso = phantom::half_level(ph.scan);
+    fmt::print("{}: {} x {} x {} voxels of {:.2f} x {:.2f} x {:.2f} mm, noise {:.0f} HU, max |K| {:.4f} /mm2\n",
+               ph.name, vol.dims[0], vol.dims[1], vol.dims[2], vol.spacing.x(), vol.spacing.y(), vol.spacing.z(),
+               ph.scan.noise_hu, ph.shape.max_abs_gauss());
+    const std::string ours = (dir / "ours.ply").string(), mc = (dir / "mc.ply").string();
+    const std::string surf = (dir / "ours.mpu").string(), mpu = (dir / "mpu.ply").string();
+    const double t_ours = timed_system(fmt::format("{} run {} --threshold {} --backend {} --quiet -o {} --surface {} "
+                                                   "--report {}",
+                                                   bin, nii, iso, backend, ours, surf, (dir / "ours.json").string()));
+    const double t_mc = timed_system(fmt::format("{} mc {} --threshold {} --backend {} --quiet -o {}", bin, nii, iso,
+                                                 backend, mc));
+    const double t_mpu = timed_system(fmt::format("{} polygonize {} --backend {} --quiet -o {}", bin, surf, backend, mpu));
+    const TriangleMesh our_mesh = read_mesh(ours);
+    const phantom::TruthFigures f_ours = phantom::truth_figures(our_mesh, ph.shape);
+    // Mesh_3 at our count: triangles go as 1 / size², so one correction after a first try.
+    bench::Mesh3Params m3;
+    m3.iso = iso;
+    double edge = 0;
+    for (const auto& t : our_mesh.triangles) edge += (our_mesh.vertices[t[0]] - our_mesh.vertices[t[1]]).norm();
+    m3.facet_size = 1.2 * edge / double(std::max<size_t>(1, our_mesh.triangles.size()));
+    m3.facet_distance = 0.2 * m3.facet_size;
+    bench::Mesh3Result cg = bench::cgal_mesh3(vol, m3);
+    m3.facet_size *= std::sqrt(double(cg.mesh.triangles.size()) / double(our_mesh.triangles.size()));
+    m3.facet_distance = 0.2 * m3.facet_size;
+    cg = bench::cgal_mesh3(vol, m3);
+    const std::string m3_path = (dir / "mesh3.ply").string();
+    write_mesh(cg.mesh, m3_path);
+    const auto report = nlohmann::json::parse(read_file((dir / "ours.json").string()));
+    fmt::print("  ours: fit tolerance {:.3f} mm ({}); Mesh_3 facet size {:.2f} mm, distance {:.2f} mm\n",
+               report["fit"].value("eps_mm", 0.0), report["fit"].value("eps_source", std::string("-")), m3.facet_size,
+               m3.facet_distance);
+    fmt::print("  {:<16} {:>7} {:>7} {:>6} {:>7} {:>6} {:>8} {:>7} {:>7} {:>7} {:>7}\n", "mesh", "tris", "dist", "p99",
+               "normal", "p95", "K rank", "K err", "sp h/l", "sp rank", "s");
+    print_row("ours", f_ours, t_ours);
+    print_row("marching cubes", phantom::truth_figures(read_mesh(mc), ph.shape), t_mc);
+    print_row("CGAL Mesh_3", phantom::truth_figures(read_mesh(m3_path), ph.shape), cg.seconds);
+    print_row("original MPU", phantom::truth_figures(read_mesh(mpu), ph.shape), t_mpu);
+    std::fflush(stdout);
+  }
+  return 0;
+}
