@@ -25,6 +25,7 @@
 #include "io/read_file.h"
 #include "report_builder.h"
 #include "mpu/mpu_fit.h"
+#include "mpu/fit_tolerance.h"
 #include "mpu/mpu_io.h"
 #include "mpu_cli.h"
 #include "particles/particle_system.h"
@@ -86,6 +87,7 @@ nlohmann::json sample_json(const particles::SampleOptions& o, const particles::S
   return {{"particles", st.particles},
           {"requested_particles", o.particles},
           {"requested_spacing_mm", o.spacing},
+          {"asked_particles", st.asked},  // what the spacing was solved for (the default's rule applied)
           {"seeds", st.seeds},
           {"pool", st.pool},
           {"candidates", st.candidates},
@@ -298,6 +300,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       const int64_t asked = o->sample.particles > 0 ? o->sample.particles : particles::kDefaultParticles;
       check_memory("run", estimate_run_bytes(0, 0, asked));
       int64_t voxels = 0;
+      const bool eps_given = o->fit.eps > 0;
+      mpu::Tolerance tolerance;
       Progress progress(common.quiet || common.json);
       nlohmann::json j;
       PointCloud cloud;
@@ -330,6 +334,11 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
           throw InputError(o->input + ": the segmentation holds no surface (nothing inside the threshold range?)");
         cloud = std::move(p.cloud);
         const Volume& vol = sv.volume;
+        o->sample.voxel_size = std::min(vol.spacing.x(), vol.spacing.y());  // the default count follows it
+        if (!(o->fit.eps > 0)) {  // no --eps: the tolerance follows the scan (mpu/fit_tolerance.h)
+          tolerance = mpu::volume_tolerance(cloud, vol.spacing);
+          o->fit.eps = tolerance.eps;
+        }
         voxels = vol.voxel_count();
         j["input"] = {{"path", o->input},
                       {"kind", "volume"},
@@ -365,12 +374,12 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       auto sparse = [](const RestrictedDelaunayStats& t, size_t particles) {
         return particles > 0 && t.repair_points > int64_t(particles) / 10;
       };
-      auto denser = [](particles::SampleOptions x) {
+      auto denser = [](particles::SampleOptions x, int64_t asked) {
         if (x.spacing > 0)
           x.spacing /= std::sqrt(kRaise);
         else
-          x.particles = int64_t(std::ceil(double(x.particles > 0 ? x.particles : particles::kDefaultParticles) *
-                                          kRaise / 1000)) * 1000;
+          x.particles = int64_t(std::ceil(double(asked > 0 ? asked : particles::kDefaultParticles) * kRaise / 1000)) *
+                        1000;
         return x;
       };
       particles::SampleStats sst;
@@ -391,9 +400,10 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
         progress.end();
         if (!sparse(tst, ps.size()) || retries == 0) break;
         --retries;
-        const particles::SampleOptions next = denser(so);
+        const particles::SampleOptions next = denser(so, sst.asked);
         raises.push_back({{"requested_particles", so.particles},
                           {"requested_spacing_mm", so.spacing},
+                          {"asked_particles", sst.asked},
                           {"particles", ps.size()},
                           {"repair_points", tst.repair_points},
                           {"next_requested_particles", next.particles},
@@ -429,6 +439,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       if (!o->surface.empty()) write_mpu(s, o->surface);
       progress.end();
       j["fit"] = fit_json(o->fit, fit_stats);
+      j["fit"]["eps_source"] = tolerance.source.empty() ? (eps_given ? "--eps" : "a quarter of the points' median spacing")
+                                                         : tolerance.source;
+      if (tolerance.noise > 0) j["fit"]["point_noise_mm"] = tolerance.noise;
       j["particles"] = sample_json(so, sst, ps);
       j["particles"]["kernel_ms"] = particle_kernel_ms;
       j["particles"]["count_raises"] = raises;
@@ -454,7 +467,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       if (j["input"].contains("read_notes"))
         for (const auto& n : j["input"]["read_notes"]) j["notes"].push_back(n);
       if (sparse(tst, ps.size())) {
-        const particles::SampleOptions more_opt = denser(so);
+        const particles::SampleOptions more_opt = denser(so, sst.asked);
         const std::string more = more_opt.spacing > 0 ? fmt::format("--spacing {:.2f}", more_opt.spacing)
                                                       : fmt::format("--particles {}", more_opt.particles);
         const std::string note = fmt::format(

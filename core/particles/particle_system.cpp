@@ -348,6 +348,12 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     stats.area += cell_area[i];
   }
 
+  if (by_default && opt.voxel_size > 0) {
+    const double mean = kDefaultVoxelsPerSpacing * opt.voxel_size;
+    opt.particles = std::max<int64_t>(500, int64_t(std::llround(stats.area / (kHexArea * mean * mean))));
+  }
+  if (opt.spacing == 0) stats.asked = opt.particles;
+
   // 2. Weights, thickness and the flat spacing h (from --spacing, or solved so that the
   //    pool's area elements add up to the wanted count).
   std::vector<double> lambda = curvature_weights(pool.curv, pool.distance, opt.curvature_scale, stats.kappa_lo,

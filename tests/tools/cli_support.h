@@ -33,7 +33,7 @@ inline Result run(const std::string& args, const std::string& env = "") {
   return r;
 }
 
-inline std::string phantom(const std::string& dir) {
+inline std::string ball_phantom(const std::string& dir) {
   const std::string p = dir + "/ball.mha";
   write_volume(test::sphere_volume({30, 28, 12}, {0.6, 0.6, 2.0}, {9, 8, 12}, 6.0), p);
   return p;

@@ -121,7 +121,7 @@ TEST(BadInput, VolumesWithoutASurface) {
   write_volume(v, dir + "/inf.mha");
   std::fill(v.voxels.begin(), v.voxels.end(), 40.0f);
   write_volume(v, dir + "/constant.mha");
-  const std::string ball = phantom(dir);
+  const std::string ball = ball_phantom(dir);
   expect_failure("run " + dir + "/nan.mha -o " + out, "nan.mha: the volume holds NaN or infinite values", out);
   expect_failure("run " + dir + "/inf.mha -o " + out, "inf.mha: the volume holds NaN or infinite values", out);
   expect_failure("run " + dir + "/constant.mha --threshold 0 -o " + out, "every voxel lies in the threshold range",
@@ -218,7 +218,7 @@ TEST(BadInput, MeshesAndSurfaces) {
 
 TEST(BadInput, AbsurdParameters) {
   const std::string dir = test::temp_dir("bad_params");
-  const std::string ball = phantom(dir);
+  const std::string ball = ball_phantom(dir);
   const std::string out = dir + "/o.ply";
   const std::string base = "run " + ball + " --threshold 0 -o " + out + " ";
   expect_failure(base + "--particles -5", "--particles must be between 1 and 10^8", out);
@@ -248,7 +248,7 @@ TEST(BadInput, AbsurdParameters) {
 
 TEST(Faults, NoVulkanDriver) {
   const std::string dir = test::temp_dir("novulkan");
-  const std::string ball = phantom(dir);
+  const std::string ball = ball_phantom(dir);
   const std::string env = "VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json";
   // auto falls back to the CPU and says so; gpu fails with the reason.
   const Result r = run("mc " + ball + " --threshold 0 -o " + dir + "/a.ply --backend auto", env);

@@ -22,6 +22,7 @@
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
 #include "mesh/restricted_delaunay.h"
+#include "mpu/fit_tolerance.h"
 #include "mpu/mpu_fit.h"
 #include "mpu/polygonize.h"
 #include "particles/particle_system.h"
@@ -107,7 +108,7 @@ int main(int argc, char** argv) {
   }
   const std::string path = argv[1];
   const double iso = argc > 2 ? std::stod(argv[2]) : 226;
-  const int64_t particles = argc > 3 ? std::stoll(argv[3]) : 45000;
+  const int64_t particles = argc > 3 ? std::stoll(argv[3]) : 0;  // 0: the product's default
   bench::Mesh3Params m3;
   m3.iso = iso;
   if (argc > 4) m3.facet_size = std::stod(argv[4]);
@@ -138,11 +139,14 @@ int main(int argc, char** argv) {
   const pts::SlicePoints sp = pts::extract_points(segm, vol);
   const double t_points = sec_since(t);
   t = Clock::now();
-  const mpu::MpuSurface surf = mpu::fit_mpu(sp.cloud, {});
+  mpu::FitOptions fo;
+  fo.eps = mpu::volume_tolerance(sp.cloud, vol.spacing).eps;  // as `mpumesh run` does
+  const mpu::MpuSurface surf = mpu::fit_mpu(sp.cloud, fo);
   const double t_fit = sec_since(t);
   t = Clock::now();
   particles::SampleOptions po;
   po.particles = particles;
+  po.voxel_size = std::min(vol.spacing.x(), vol.spacing.y());  // as `mpumesh run` does
   particles::SampleStats pst;
   const particles::ParticleState ps = particles::sample_surface(surf, sp.cloud.positions, po, *choice.backend, &pst);
   const double t_particles = sec_since(t);

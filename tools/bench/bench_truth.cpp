@@ -12,6 +12,8 @@
 // |K| over the lowest tenth, rank correlation).
 // Usage:
 //   mpumesh_bench_truth [cpu|gpu|auto] [PHANTOM ...]
+// MPUMESH_BENCH_TRUTH_ARGS: options added to our run (to measure other settings), where
+// "{px}" stands for the in-plane pixel size and "{2.5px}" for 2.5 times it.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 
 #include "cgal_mesh3_peer.h"
 #include "io/mesh_io.h"
@@ -76,9 +79,14 @@ int main(int argc, char** argv) {
                ph.scan.noise_hu, ph.shape.max_abs_gauss());
     const std::string ours = (dir / "ours.ply").string(), mc = (dir / "mc.ply").string();
     const std::string surf = (dir / "ours.mpu").string(), mpu = (dir / "mpu.ply").string();
+    std::string extra = std::getenv("MPUMESH_BENCH_TRUTH_ARGS") ? std::getenv("MPUMESH_BENCH_TRUTH_ARGS") : "";
+    for (std::smatch m; std::regex_search(extra, m, std::regex(R"(\{([0-9.]*)px\})"));)
+      extra.replace(size_t(m.position(0)), size_t(m.length(0)),
+                    fmt::format("{:.3f}", (m[1].length() ? std::stod(m[1]) : 1.0) * vol.spacing.x()));
     const double t_ours = timed_system(fmt::format("{} run {} --threshold {} --backend {} --quiet -o {} --surface {} "
-                                                   "--report {}",
-                                                   bin, nii, iso, backend, ours, surf, (dir / "ours.json").string()));
+                                                   "--report {} {}",
+                                                   bin, nii, iso, backend, ours, surf, (dir / "ours.json").string(),
+                                                   extra));
     const double t_mc = timed_system(fmt::format("{} mc {} --threshold {} --backend {} --quiet -o {}", bin, nii, iso,
                                                  backend, mc));
     const double t_mpu = timed_system(fmt::format("{} polygonize {} --backend {} --quiet -o {}", bin, surf, backend, mpu));

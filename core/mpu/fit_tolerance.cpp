@@ -1,0 +1,24 @@
+#include "mpu/fit_tolerance.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "points/point_noise.h"
+
+namespace mpumesh::mpu {
+
+Tolerance volume_tolerance(const PointCloud& cloud, const Eigen::Vector3d& spacing) {
+  Tolerance t;
+  t.pixel = std::min(spacing.x(), spacing.y());
+  t.noise = pts::estimate_noise(cloud);
+  t.eps = std::max(t.pixel, 3 * t.noise);
+  t.source = 3 * t.noise > t.pixel
+                 ? fmt::format("3 x the contour points' scatter ({:.3f} mm), above the in-plane voxel ({:.3f} mm)",
+                               t.noise, t.pixel)
+                 : fmt::format("the in-plane voxel size ({:.3f} mm); the contour points' scatter is {:.3f} mm",
+                               t.pixel, t.noise);
+  return t;
+}
+
+}  // namespace mpumesh::mpu
