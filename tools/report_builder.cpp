@@ -159,6 +159,17 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
     page.heading("Input");
     page.table({"", ""}, rows);
   }
+  if (run.contains("fit") && run["fit"].is_object() && run["fit"].contains("eps_mm")) {
+    const auto& f = run["fit"];
+    page.paragraph(report::escape_html(
+        fmt::format("The fit's tolerance ε0 is {:.3f} mm: {}.", f["eps_mm"].get<double>(),
+                    f.contains("eps_source") ? f["eps_source"].get<std::string>() : std::string("given"))));
+  }
+  if (run.contains("particles") && run["particles"].is_object() && run["particles"].contains("off_data_removed"))
+    page.paragraph(report::escape_html(fmt::format(
+        "{} particles were removed for lying on a zero set of the fit away from every input point (a spurious "
+        "sheet).",
+        run["particles"]["off_data_removed"].get<int64_t>())));
   std::vector<ReportMesh> all = {in.ours};
   for (const auto& b : in.baselines) all.push_back(b);
   std::vector<PerTriangle> shapes;

@@ -153,7 +153,34 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     }
     return rs.size() > 0 && (pos == 0 || neg == 0) ? sum / double(rs.size()) : NAN;
   };
-  auto aux_points = [&](const Cell& c) {
+  // A cell away from the data (see `away` below) also gets its 12 edge midpoints and 6
+  // face centres: 27 points on the half-cell lattice, cached the same way. Its quadric is
+  // extrapolated from points outside the cell, and the 9 points alone leave it free to
+  // cross zero between them: on the sample CT the 27 cut the original MPU mesh's p99
+  // distance to marching cubes (its zero set away from the bone) from 11.5 to 0.67 mm.
+  tbb::concurrent_unordered_map<uint64_t, double> half_values;
+  auto lattice_points = [&](const Cell& c, std::vector<AuxPoint>& aux) {
+    const uint64_t side = (uint64_t(2) << c.depth) + 1;  // half-cell lattice points per axis
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b)
+        for (int k = 0; k < 3; ++k) {
+          const int odd = (a == 1) + (b == 1) + (k == 1);
+          if (odd == 0 || odd == 3) continue;  // corners and the centre are there already
+          const std::array<int64_t, 3> h = {2 * c.ijk[0] + a, 2 * c.ijk[1] + b, 2 * c.ijk[2] + k};
+          const Eigen::Vector3d q =
+              s.box_min + 0.5 * c.size * Eigen::Vector3d(double(h[0]), double(h[1]), double(h[2]));
+          const uint64_t key = uint64_t(h[0]) + side * (uint64_t(h[1]) + side * uint64_t(h[2]));
+          double v;
+          if (const auto it = half_values.find(key); it != half_values.end()) {
+            v = it->second;
+          } else {
+            v = aux_value(q);
+            half_values.insert({key, v});
+          }
+          if (!std::isnan(v)) aux.push_back({q, v});
+        }
+  };
+  auto aux_points = [&](const Cell& c, bool lattice) {
     std::vector<AuxPoint> aux;
     const uint64_t side = (uint64_t(1) << c.depth) + 1;  // corners per axis at this depth
     for (int k = 0; k < 9; ++k) {
@@ -175,6 +202,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
       }
       if (!std::isnan(v)) aux.push_back({q, v});
     }
+    if (lattice) lattice_points(c, aux);
     return aux;
   };
 
@@ -245,7 +273,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
       // centre. (Cells that grew from more points keep the height field: on slice stacks
       // the general quadric there tripled the curvature error.)
       std::vector<AuxPoint> aux;
-      if (away) aux = aux_points(c);
+      if (away) aux = aux_points(c, true);
       if (away && aux.size() >= 5) {
         o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
       } else if (within) {
@@ -253,7 +281,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
                      ? fit_height_orthopoly(b, cloud, n, opt.max_degree, slope_length, &o.error)
                      : fit_height_quadric(b, cloud, n, &o.error);
       } else {
-        if (aux.empty()) aux = aux_points(c);
+        if (aux.empty()) aux = aux_points(c, false);
         o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
       }
       return o;
@@ -317,6 +345,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   while (!level.empty()) {
     std::vector<Outcome> out(level.size());
     corner_values.clear();
+    half_values.clear();
     tbb::parallel_for(size_t(0), level.size(), [&](size_t i) { out[i] = process(level[i]); });
     std::vector<Cell> next;
     std::vector<size_t> kept;  // this level's leaves, in cell order

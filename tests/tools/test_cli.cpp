@@ -294,7 +294,8 @@ TEST(Cli, RunRaisesTheCountOnTheSampleCt) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);
   const std::string dir = test::temp_dir("run-raise");
   // 40,000 particles with the thicker thickness estimate are too sparse for the skull's
-  // plates at the points' own tolerance (0.122 mm): one retry is allowed.
+  // plates of the surface fitted at the points' own tolerance (0.122 mm): one retry is
+  // allowed.
   const std::string job = "run " + ct + " --threshold 226 --thickness-factor 1.4 --eps 0.122 --particles 40000 ";
   const Result r = run(job + "--count-retries 1 -o " + dir + "/skull.ply --report " + dir +
                        "/report.json --no-self-intersections --backend cpu");
