@@ -1,5 +1,7 @@
 #include "phantom/truth_figures.h"
 
+#include "particles/spacing_stats.h"
+
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -8,20 +10,6 @@
 
 namespace mpumesh::phantom {
 namespace {
-
-std::vector<double> ranks(const std::vector<double>& x) {
-  std::vector<size_t> o(x.size());
-  std::iota(o.begin(), o.end(), size_t(0));
-  std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return x[a] < x[b]; });
-  std::vector<double> r(x.size());
-  for (size_t i = 0; i < o.size();) {
-    size_t j = i;
-    while (j + 1 < o.size() && x[o[j + 1]] == x[o[i]]) ++j;
-    for (size_t t = i; t <= j; ++t) r[o[t]] = 0.5 * double(i + j);
-    i = j + 1;
-  }
-  return r;
-}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -72,19 +60,6 @@ std::vector<double> vertex_spacing(const TriangleMesh& m) {
 
 }  // namespace
 
-double spearman(const std::vector<double>& x, const std::vector<double>& y) {
-  const std::vector<double> rx = ranks(x), ry = ranks(y);
-  const double mx = std::accumulate(rx.begin(), rx.end(), 0.0) / double(rx.size());
-  const double my = std::accumulate(ry.begin(), ry.end(), 0.0) / double(ry.size());
-  double sxy = 0, sxx = 0, syy = 0;
-  for (size_t i = 0; i < rx.size(); ++i) {
-    sxy += (rx[i] - mx) * (ry[i] - my);
-    sxx += (rx[i] - mx) * (rx[i] - mx);
-    syy += (ry[i] - my) * (ry[i] - my);
-  }
-  return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0;
-}
-
 TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
   TruthFigures f;
   const size_t nv = m.vertices.size(), nt = m.triangles.size();
@@ -115,7 +90,7 @@ TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
     for (size_t i = 0; i < nv; ++i) k[i] = m.curvature[i][2];
   else
     k = discrete_gauss(m);
-  f.gauss_rank = spearman(k, gauss);
+  f.gauss_rank = particles::rank_correlation(k, gauss);
   std::vector<double> err(nv);
   for (size_t i = 0; i < nv; ++i) err[i] = std::abs(k[i] - gauss[i]);
   f.gauss_median_error = median(err) / shape.max_abs_gauss();
@@ -123,7 +98,7 @@ TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
   const std::vector<double> spacing = vertex_spacing(m);
   std::vector<double> absk(nv);
   for (size_t i = 0; i < nv; ++i) absk[i] = std::abs(gauss[i]);
-  f.spacing_rank = spearman(spacing, absk);
+  f.spacing_rank = particles::rank_correlation(spacing, absk);
   std::vector<size_t> o(nv);
   std::iota(o.begin(), o.end(), size_t(0));
   std::sort(o.begin(), o.end(), [&](size_t a, size_t b) { return absk[a] < absk[b]; });

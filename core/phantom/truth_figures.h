@@ -28,7 +28,4 @@ struct TruthFigures {
 
 TruthFigures truth_figures(const TriangleMesh& mesh, const Shape& shape);
 
-// Spearman's rank correlation (ties get their mean rank); 0 when either side is constant.
-double spearman(const std::vector<double>& x, const std::vector<double>& y);
-
 }  // namespace mpumesh::phantom

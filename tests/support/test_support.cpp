@@ -6,6 +6,7 @@
 #include <map>
 #include <random>
 
+#include "phantom/ct_phantom.h"
 #include "vk/vk_check.h"
 
 namespace mpumesh::test {
@@ -88,28 +89,9 @@ bool ShellPhantom::inside(const Eigen::Vector3d& p) const {
 }
 
 double ShellPhantom::distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal) const {
-  // Closest point x = e² y / (e² + t) where F(t) = Σ (e y / (e² + t))² - 1 = 0; F falls
-  // monotonically for t > -min(e²), so bisection finds t.
-  const Eigen::Vector3d y = p - centre, e2 = radii.cwiseProduct(radii);
-  auto F = [&](double t) {
-    double s = 0;
-    for (int d = 0; d < 3; ++d) {
-      const double r = radii[d] * y[d] / (e2[d] + t);
-      s += r * r;
-    }
-    return s - 1.0;
-  };
-  double a = -e2.minCoeff() * (1 - 1e-12), b = 1.0;
-  while (F(b) > 0) b *= 2;
-  for (int it = 0; it < 200; ++it) {
-    const double m = 0.5 * (a + b);
-    (F(m) > 0 ? a : b) = m;
-  }
-  const double t = 0.5 * (a + b);
-  Eigen::Vector3d x;
-  for (int d = 0; d < 3; ++d) x[d] = e2[d] * y[d] / (e2[d] + t);
-  if (normal) *normal = x.cwiseQuotient(e2).normalized();
-  return (y - x).norm();
+  const phantom::Shape outer{phantom::Shape::kEllipsoid, radii.x(), radii.y(), radii.z(),
+                             Eigen::Matrix3d::Identity(), centre};
+  return outer.distance(p, normal);
 }
 
 double AnalyticShape::value(const Eigen::Vector3d& p) const {
