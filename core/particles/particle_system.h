@@ -45,8 +45,9 @@ constexpr int64_t kDefaultParticles = 40000;
 // For a surface from a volume (SampleOptions::voxel_size > 0), the default count instead
 // follows the scan: as many particles as give a mean spacing of this many in-plane
 // voxels over the fitted surface's area (the pool's area, below). Finer than the slices
-// resolve gains nothing; on the sample CT (0.957 mm voxels, 290,000 mm² of bone) it asks
-// for about 58,000, on 40-70 mm phantoms scanned at 0.5-0.7 mm for 1,200-8,000.
+// resolve gains nothing; on the sample CT (0.957 mm voxels, a pool area of 258,000 mm²)
+// it asks for 52,098 (60,891 come out), on 40-70 mm phantoms scanned at 0.5-0.7 mm for
+// 1,000-8,000.
 constexpr double kDefaultVoxelsPerSpacing = 2.5;
 
 struct SampleOptions {
