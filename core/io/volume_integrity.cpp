@@ -347,7 +347,7 @@ VolumeFileLayout check_nrrd(const std::string& path) {
   VolumeFileLayout l = layout_of(path, spatial, bytes);
   refuse_beyond_3d(path, spatial);
   std::string data = path;
-  const std::string df = f.count("datafile") ? f["datafile"] : f.count("data file") ? f["data file"] : "";
+  const std::string df = f.count("datafile") ? f["datafile"] : "";  // "data file" with its space dropped
   if (!df.empty()) {
     if (is_file_list(df)) return l;
     data = beside(path, df);

@@ -78,6 +78,15 @@ std::string write_raw_nrrd(const Volume& v, const std::string& path) {
   return path;
 }
 
+// NRRD header with its raw data in a file of its own (.nhdr).
+std::string write_nhdr(const Volume& v, const std::string& dir, double keep = 1.0) {
+  const std::string raw = int16_bytes(v);
+  write_bytes(dir + "/v.raw", raw.substr(0, size_t(double(raw.size()) * keep)));
+  write_bytes(dir + "/v.nhdr", "NRRD0004\ntype: short\ndimension: 3\nsizes: " + sizes(v) +
+                                   "\nspacings: 0.6 0.6 2\nencoding: raw\nendian: little\ndata file: v.raw\n\n");
+  return dir + "/v.nhdr";
+}
+
 // MetaImage header with detached data; `compressed` writes the data as a zlib/gzip stream.
 std::string write_mhd(const Volume& v, const std::string& dir, bool compressed) {
   const std::string data = compressed ? gzip(int16_bytes(v)) : int16_bytes(v);
@@ -121,6 +130,7 @@ TEST(VolumeIntegrity, IntactFilesOfEveryFormatRead) {
     EXPECT_EQ(read_volume(dir + "/v" + ext).voxels, v.voxels);
   }
   EXPECT_EQ(read_volume(write_raw_nrrd(v, dir + "/raw.nrrd")).voxels, v.voxels);
+  EXPECT_EQ(read_volume(write_nhdr(v, test::temp_dir("intact_nhdr"))).voxels, v.voxels);
   const std::string raw_dir = test::temp_dir("intact_mhd"), z_dir = test::temp_dir("intact_mhd_z");
   EXPECT_EQ(read_volume(write_mhd(v, raw_dir, false)).voxels, v.voxels);
   EXPECT_EQ(read_volume(write_mhd(v, z_dir, true)).voxels, v.voxels);
@@ -141,6 +151,7 @@ TEST(VolumeIntegrity, TruncatedFilesAreRefusedInEveryFormat) {
   write_volume(v, dir + "/v.nrrd");  // gzip encoding
   expect_refused(cut(dir + "/v.nrrd", dir + "/cut.nrrd", 0.6), "cut short");
   expect_refused(cut(write_raw_nrrd(v, dir + "/raw.nrrd"), dir + "/cutraw.nrrd", 0.6), " of " + need + " bytes");
+  expect_refused(write_nhdr(v, test::temp_dir("cut_nhdr"), 0.5), "data end after");
   // .mhd: the detached raw file cut, and the detached compressed one.
   for (bool z : {false, true}) {
     SCOPED_TRACE(z ? "zraw" : "raw");
