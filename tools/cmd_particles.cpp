@@ -22,6 +22,7 @@
 #include "mesh/surface_attributes.h"
 #include "mc/marching_cubes.h"
 #include "mpu/polygonize.h"
+#include "common/text.h"
 #include "io/read_file.h"
 #include "report_builder.h"
 #include "mpu/mpu_fit.h"
@@ -140,8 +141,7 @@ nlohmann::json triangulation_json(const RestrictedDelaunayStats& st) {
 }
 
 bool is_mesh_path(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lower_case(std::filesystem::path(path).extension().string());
   return ext == ".stl" || ext == ".ply" || ext == ".obj" || ext == ".off";
 }
 
@@ -334,9 +334,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
           throw InputError(o->input + ": the segmentation holds no surface (nothing inside the threshold range?)");
         cloud = std::move(p.cloud);
         const Volume& vol = sv.volume;
-        o->sample.voxel_size = std::min(vol.spacing.x(), vol.spacing.y());  // the default count follows it
+        o->sample.voxel_size = vol.in_plane_spacing();  // the default count follows it
         if (!(o->fit.eps > 0)) {  // no --eps: the tolerance follows the scan (mpu/fit_tolerance.h)
-          tolerance = mpu::volume_tolerance(cloud, vol.spacing);
+          tolerance = mpu::volume_tolerance(cloud, vol.in_plane_spacing());
           o->fit.eps = tolerance.eps;
         }
         voxels = vol.voxel_count();

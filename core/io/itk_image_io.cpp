@@ -22,6 +22,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/text.h"
 #include "io/atomic_file.h"
 #include "io/dicom_pixel_check.h"
 #include "io/library_messages.h"
@@ -33,13 +34,6 @@ namespace {
 using FloatImage = itk::Image<float, 3>;
 namespace fs = std::filesystem;
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
-bool ends_with(const std::string& s, const std::string& e) {
-  return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
-}
 
 // ITK's and GDCM's own warnings go to stderr in their words; every problem they find
 // reaches the user as one InputError naming the file instead.
@@ -55,11 +49,11 @@ void quiet_libraries() {
 }
 
 itk::ImageIOBase::Pointer io_for(const std::string& path) {
-  const std::string p = lower(path);
-  if (ends_with(p, ".nii") || ends_with(p, ".nii.gz")) return itk::NiftiImageIO::New().GetPointer();
-  if (ends_with(p, ".nrrd") || ends_with(p, ".nhdr")) return itk::NrrdImageIO::New().GetPointer();
-  if (ends_with(p, ".mha") || ends_with(p, ".mhd")) return itk::MetaImageIO::New().GetPointer();
-  if (ends_with(p, ".dcm")) return itk::GDCMImageIO::New().GetPointer();
+  const std::string p = lower_case(path);
+  if (p.ends_with(".nii") || p.ends_with(".nii.gz")) return itk::NiftiImageIO::New().GetPointer();
+  if (p.ends_with(".nrrd") || p.ends_with(".nhdr")) return itk::NrrdImageIO::New().GetPointer();
+  if (p.ends_with(".mha") || p.ends_with(".mhd")) return itk::MetaImageIO::New().GetPointer();
+  if (p.ends_with(".dcm")) return itk::GDCMImageIO::New().GetPointer();
   return nullptr;
 }
 
@@ -250,11 +244,11 @@ PlainVolume itk_read_file(const std::string& path) {
 }
 
 void itk_write_file(const PlainVolume& vol, const std::string& path) {
-  const std::string p = lower(path);
-  if (ends_with(p, ".mhd") || ends_with(p, ".nhdr"))
+  const std::string p = lower_case(path);
+  if (p.ends_with(".mhd") || p.ends_with(".nhdr"))
     throw InputError(path + ": header+data pairs cannot be written atomically; use .mha or .nrrd");
   auto io = io_for(path);
-  if (!io || ends_with(p, ".dcm"))
+  if (!io || p.ends_with(".dcm"))
     throw InputError(path + ": unknown volume output format (use .nii, .nii.gz, .nrrd or .mha)");
   auto img = to_itk(vol);
   AtomicFile out(path);

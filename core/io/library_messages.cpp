@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/text.h"
 
 namespace mpumesh {
 namespace {
@@ -31,10 +32,6 @@ class CollectingWindow : public itk::OutputWindow {
   std::ostringstream text;
 };
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
 
 // One message per non-empty line, whitespace collapsed; ITK's multi-line warnings
 // ("WARNING: In file, line N / Class (0x...): text") keep only their text line.
@@ -63,7 +60,7 @@ std::vector<std::string> lines_of(const std::string& text) {
 }  // namespace
 
 bool reports_damage(const std::string& message) {
-  const std::string m = lower(message);
+  const std::string m = lower_case(message);
   for (const char* word : {"not read completely", "truncat", "corrupt", "premature", "unexpected end", "short read",
                            "error", "fail", "cannot", "can't", "could not", "unable", "incomplete", "invalid"})
     if (m.find(word) != std::string::npos) return true;

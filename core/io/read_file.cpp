@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/text.h"
 
 namespace mpumesh {
 
@@ -26,9 +27,7 @@ std::string read_file(const std::string& path) {
 
 std::string lower_extension(const std::string& path) {
   const auto dot = path.find_last_of('.');
-  std::string e = dot == std::string::npos ? "" : path.substr(dot);
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return e;
+  return lower_case(dot == std::string::npos ? "" : path.substr(dot));
 }
 
 }  // namespace mpumesh

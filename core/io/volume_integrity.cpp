@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/text.h"
 
 namespace mpumesh {
 namespace {
@@ -18,13 +19,6 @@ namespace fs = std::filesystem;
 
 constexpr uint64_t kMaxDataBytes = uint64_t(1) << 40;  // a header promising more is not a scan
 
-std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s;
-}
-bool ends_with(const std::string& s, const std::string& e) {
-  return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
-}
 std::string trim(const std::string& s) {
   const auto a = s.find_first_not_of(" \t\r\n");
   if (a == std::string::npos) return "";
@@ -229,7 +223,7 @@ VolumeFileLayout check_nifti(const std::string& path, bool gz) {
 // ---- NRRD and MetaImage: text headers -----------------------------------------------
 
 int bytes_of_nrrd_type(std::string t) {
-  t = lower(trim(t));
+  t = lower_case(trim(t));
   if (t == "block") return 0;
   if (t == "float") return 4;
   if (t == "double") return 8;
@@ -242,7 +236,7 @@ int bytes_of_nrrd_type(std::string t) {
 
 int bytes_of_meta_type(std::string t) {
   t = trim(t);
-  if (ends_with(t, "_ARRAY")) t.resize(t.size() - 6);
+  if (t.ends_with("_ARRAY")) t.resize(t.size() - 6);
   static const std::map<std::string, int> sizes = {
       {"MET_CHAR", 1},  {"MET_UCHAR", 1},     {"MET_SHORT", 2},      {"MET_USHORT", 2}, {"MET_INT", 4},
       {"MET_UINT", 4},  {"MET_LONG", 4},      {"MET_ULONG", 4},      {"MET_FLOAT", 4},  {"MET_DOUBLE", 8},
@@ -320,7 +314,7 @@ VolumeFileLayout check_nrrd(const std::string& path) {
     if (line.empty() || line[0] == '#' || line.find(":=") != std::string::npos) return false;
     const auto c = line.find(": ");
     if (c == std::string::npos) return false;
-    k = lower(trim(line.substr(0, c)));
+    k = lower_case(trim(line.substr(0, c)));
     k.erase(std::remove(k.begin(), k.end(), ' '), k.end());
     v = trim(line.substr(c + 2));
     return true;
@@ -337,7 +331,7 @@ VolumeFileLayout check_nrrd(const std::string& path) {
     std::istringstream is(f["kinds"]);
     std::string first;
     is >> first;
-    first = lower(first);
+    first = lower_case(first);
     if (!first.empty() && first != "domain" && first != "space" && first != "none" && first != "???" &&
         first != "time" && spatial.size() > 1) {
       bytes *= int(std::min<int64_t>(std::max<int64_t>(spatial[0], 1), 1 << 16));
@@ -356,7 +350,7 @@ VolumeFileLayout check_nrrd(const std::string& path) {
   const int64_t line_skip = f.count("lineskip") ? std::atoll(f["lineskip"].c_str()) : 0;
   const int64_t byte_skip = f.count("byteskip") ? std::atoll(f["byteskip"].c_str()) : 0;
   if (line_skip > 0) data_at = skip_lines(data, data_at, line_skip);
-  const std::string enc = lower(f["encoding"]);
+  const std::string enc = lower_case(f["encoding"]);
   if (enc == "raw") {
     const uint64_t size = file_size_of(data, path);
     if (byte_skip == -1) require_bytes(path, size > data_at ? size - data_at : 0, l.data_bytes, "");
@@ -406,7 +400,7 @@ VolumeFileLayout check_metaimage(const std::string& path) {
     data = beside(path, df);
     data_at = 0;
   }
-  const bool compressed = f.count("CompressedData") && lower(f["CompressedData"]) == "true";
+  const bool compressed = f.count("CompressedData") && lower_case(f["CompressedData"]) == "true";
   if (compressed) {
     l.compressed = true;
     check_inflated(path, inflate_file(data, data_at, 0, path), l.data_bytes);
@@ -432,11 +426,11 @@ std::string with_thousands(uint64_t n) {
 }
 
 VolumeFileLayout check_volume_file(const std::string& path) {
-  const std::string p = lower(path);
-  if (ends_with(p, ".nii")) return check_nifti(path, false);
-  if (ends_with(p, ".nii.gz")) return check_nifti(path, true);
-  if (ends_with(p, ".nrrd") || ends_with(p, ".nhdr")) return check_nrrd(path);
-  if (ends_with(p, ".mha") || ends_with(p, ".mhd")) return check_metaimage(path);
+  const std::string p = lower_case(path);
+  if (p.ends_with(".nii")) return check_nifti(path, false);
+  if (p.ends_with(".nii.gz")) return check_nifti(path, true);
+  if (p.ends_with(".nrrd") || p.ends_with(".nhdr")) return check_nrrd(path);
+  if (p.ends_with(".mha") || p.ends_with(".mhd")) return check_metaimage(path);
   return {};
 }
 

@@ -5,16 +5,12 @@
 #include <filesystem>
 
 #include "common/error.h"
+#include "common/text.h"
 #include "io/itk_image_io.h"
 #include "io/read_file.h"
 
 namespace mpumesh {
 namespace {
-
-bool has_suffix(std::string s, const std::string& e) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return s.size() >= e.size() && s.compare(s.size() - e.size(), e.size(), e) == 0;
-}
 
 Volume from_plain(PlainVolume&& p, const std::string& source) {
   Volume v;
@@ -52,7 +48,7 @@ Volume read_volume(const std::string& path) {
   if (!fs::exists(path, ec)) throw InputError(path + ": file or directory not found");
   Volume v;
   if (fs::is_directory(path, ec)) v = from_plain(itk_read_dicom_series(path), path);
-  else if (has_suffix(path, ".inv3")) v = parse_inv3(read_file(path), path);
+  else if (lower_case(path).ends_with(".inv3")) v = parse_inv3(read_file(path), path);
   else v = from_plain(itk_read_file(path), path);
   validate_volume(v, path);
   for (float x : v.voxels)

@@ -8,9 +8,9 @@
 
 namespace mpumesh::mpu {
 
-Tolerance volume_tolerance(const PointCloud& cloud, const Eigen::Vector3d& spacing) {
+Tolerance volume_tolerance(const PointCloud& cloud, double pixel) {
   Tolerance t;
-  t.pixel = std::min(spacing.x(), spacing.y());
+  t.pixel = pixel;
   t.noise = pts::estimate_noise(cloud);
   t.eps = std::max(t.pixel, 3 * t.noise);
   t.source = 3 * t.noise > t.pixel

@@ -10,7 +10,6 @@
 // median spacing), since nothing says they are noisy.
 #pragma once
 
-#include <Eigen/Dense>
 #include <string>
 
 #include "points/point_cloud.h"
@@ -24,6 +23,7 @@ struct Tolerance {
   std::string source;  // the rule and the figure that decided it, for the reports
 };
 
-Tolerance volume_tolerance(const PointCloud& cloud, const Eigen::Vector3d& voxel_spacing);
+// `pixel`: the in-plane voxel size (Volume::in_plane_spacing).
+Tolerance volume_tolerance(const PointCloud& cloud, double pixel);
 
 }  // namespace mpumesh::mpu

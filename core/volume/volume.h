@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <string>
@@ -22,6 +23,8 @@ struct Volume {
   std::vector<std::string> read_notes;    // harmless things the file's reader said
 
   int64_t voxel_count() const { return dims[0] * dims[1] * dims[2]; }
+  // The in-plane voxel size (mm): the finest detail a slice resolves.
+  double in_plane_spacing() const { return std::min(spacing.x(), spacing.y()); }
   int64_t index(int64_t i, int64_t j, int64_t k) const { return i + dims[0] * (j + dims[1] * k); }
   float at(int64_t i, int64_t j, int64_t k) const { return voxels[size_t(index(i, j, k))]; }
 

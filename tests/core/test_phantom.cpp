@@ -121,7 +121,7 @@ TEST(PointNoise, FindsTheScatterItIsGiven) {
     for (size_t i = 0; i < noisy.size(); ++i) noisy.positions[i] += g(rng) * noisy.normals[i];
     EXPECT_NEAR(pts::estimate_noise(noisy), sigma, 0.25 * sigma) << sigma;
     // The tolerance rule: the in-plane voxel, or 3 sigma when that is larger.
-    const mpu::Tolerance t = mpu::volume_tolerance(noisy, {0.4, 0.4, 1.5});
+    const mpu::Tolerance t = mpu::volume_tolerance(noisy, 0.4);
     EXPECT_NEAR(t.eps, std::max(0.4, 3 * t.noise), 1e-12);
     EXPECT_FALSE(t.source.empty());
   }

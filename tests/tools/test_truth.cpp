@@ -37,7 +37,7 @@ Scored mesh_phantom(const std::string& name) {
     if (ph.name != name) continue;
     const std::string dir = test::temp_dir("truth_" + name);
     const Volume v = phantom::scan(ph.shape, ph.scan);
-    r.pixel = v.spacing.x();
+    r.pixel = v.in_plane_spacing();
     write_volume(v, dir + "/scan.nii.gz");
     const std::string t = std::to_string(phantom::half_level(ph.scan));
     const Result run_ours = run("run " + dir + "/scan.nii.gz --threshold " + t + " --backend cpu --quiet -o " + dir +

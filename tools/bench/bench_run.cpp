@@ -140,13 +140,13 @@ int main(int argc, char** argv) {
   const double t_points = sec_since(t);
   t = Clock::now();
   mpu::FitOptions fo;
-  fo.eps = mpu::volume_tolerance(sp.cloud, vol.spacing).eps;  // as `mpumesh run` does
+  fo.eps = mpu::volume_tolerance(sp.cloud, vol.in_plane_spacing()).eps;  // as `mpumesh run` does
   const mpu::MpuSurface surf = mpu::fit_mpu(sp.cloud, fo);
   const double t_fit = sec_since(t);
   t = Clock::now();
   particles::SampleOptions po;
   po.particles = particles;
-  po.voxel_size = std::min(vol.spacing.x(), vol.spacing.y());  // as `mpumesh run` does
+  po.voxel_size = vol.in_plane_spacing();  // as `mpumesh run` does
   particles::SampleStats pst;
   const particles::ParticleState ps = particles::sample_surface(surf, sp.cloud.positions, po, *choice.backend, &pst);
   const double t_particles = sec_since(t);

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     std::string extra = std::getenv("MPUMESH_BENCH_TRUTH_ARGS") ? std::getenv("MPUMESH_BENCH_TRUTH_ARGS") : "";
     for (std::smatch m; std::regex_search(extra, m, std::regex(R"(\{([0-9.]*)px\})"));)
       extra.replace(size_t(m.position(0)), size_t(m.length(0)),
-                    fmt::format("{:.3f}", (m[1].length() ? std::stod(m[1]) : 1.0) * vol.spacing.x()));
+                    fmt::format("{:.3f}", (m[1].length() ? std::stod(m[1]) : 1.0) * vol.in_plane_spacing()));
     const double t_ours = timed_system(fmt::format("{} run {} --threshold {} --backend {} --quiet -o {} --surface {} "
                                                    "--report {} {}",
                                                    bin, nii, iso, backend, ours, surf, (dir / "ours.json").string(),
