@@ -253,7 +253,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
     mpu::FitOptions fit;
     particles::SampleOptions sample;
     BackendOptions backend;
-    bool self_intersections = true;
+    bool self_intersections = true, partial_volume_caps = false;
     int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
   };
   auto o = std::make_shared<Opts>();
@@ -270,6 +270,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
                   "histograms, stage times");
   cmd->add_flag("!--no-self-intersections", o->self_intersections, "skip the self-intersection test of the report");
   add_segment_options(cmd, o->seg);
+  cmd->add_flag("--partial-volume-caps", o->partial_volume_caps,
+                "cap points' heights from the grey of the two slabs the surface crosses, not the contours alone");
   add_fit_options(cmd, o->fit, o->local_fit);
   add_sample_options(cmd, o->sample, "--particle-iterations");
   cmd->add_option("--count-retries", o->count_retries,
@@ -328,7 +330,9 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       } else {
         SegmentedVolume sv = read_and_segment(o->input, o->seg, o->backend, common, progress);
         progress.begin("points");
-        pts::SlicePoints p = pts::extract_points(sv.segmentation, sv.volume, {});
+        pts::PointOptions popt;
+        popt.partial_volume_caps = o->partial_volume_caps;
+        pts::SlicePoints p = pts::extract_points(sv.segmentation, sv.volume, popt);
         progress.end();
         if (p.cloud.size() == 0)
           throw InputError(o->input + ": the segmentation holds no surface (nothing inside the threshold range?)");

@@ -56,6 +56,12 @@ bool Shape::inside(const Eigen::Vector3d& p) const {
   return false;
 }
 
+Eigen::Vector3d Shape::closest_point(const Eigen::Vector3d& p) const {
+  Eigen::Vector3d n;
+  const double d = distance(p, &n);
+  return p + (inside(p) ? d : -d) * n;
+}
+
 double Shape::distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal, double* gauss) const {
   const Eigen::Vector3d q = rotation.transpose() * (p - centre);
   Eigen::Vector3d n(0, 0, 1);

@@ -28,6 +28,8 @@ struct Shape {
   bool inside(const Eigen::Vector3d& p) const;
   // Unsigned distance to the surface; the outward normal and K at the closest point.
   double distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal = nullptr, double* gauss = nullptr) const;
+  // The closest point on the surface.
+  Eigen::Vector3d closest_point(const Eigen::Vector3d& p) const;
   // Half the extent of the local bounding box (before rotation).
   Eigen::Vector3d half_extent() const;
   // The largest |K| on the surface (for errors relative to it).

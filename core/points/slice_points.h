@@ -12,6 +12,8 @@
 //   contours); where the other slice has no region at all (a dome top), rising at 45° from
 //   the contour up to the mid-plane, the best guess for an apex somewhere between the two
 //   slices. Flat mid-plane caps would give normals up to 45° off along every cap's rim.
+//   With partial_volume_caps, the height comes from the grey of the two slabs instead
+//   where the column allows it (see partial_volume_rise in slice_points.cpp).
 //   The padding slices are empty, so a structure cut by the first or last slice gets a cap
 //   (at most half a slice outside it).
 // - Normals: PCA over the points within a radius that reaches the adjacent slices (one
@@ -32,6 +34,10 @@ namespace mpumesh::pts {
 
 struct PointOptions {
   bool caps = true;
+  // Cap heights from the grey of the two slabs the surface crosses (partial volume) where
+  // the column allows it, else from the contours alone. Off by default: on a 6 mm ball in
+  // 2 mm slices its truer surface leaves the particle count 1.45 times the one asked.
+  bool partial_volume_caps = false;
   // PCA radius: max(radius_slices * slice spacing, radius_pixels * in-plane spacing).
   double radius_slices = 1.5;
   double radius_pixels = 3.0;
