@@ -37,7 +37,7 @@ void add_segment_command(CLI::App& app, CommonOptions& common, std::function<voi
       progress.begin("write mask");
       write_volume(seg::mask_volume(s, vol), o->output);
       progress.end();
-      nlohmann::json j = segment_json(opt, s);
+      nlohmann::json j = segment_json(opt, seg::summarize(s));
       j["input"] = o->input;
       j["output"] = o->output;
       j["backend"] = backend_json(choice);
@@ -103,7 +103,7 @@ void add_points_command(CLI::App& app, CommonOptions& common, std::function<void
       nlohmann::json j;
       j["input"] = o->input;
       j["output"] = o->output;
-      j["segmentation"] = segment_json(opt, s);
+      j["segmentation"] = segment_json(opt, seg::summarize(s));
       j["points"] = points_json(p);
       j["backend"] = backend_json(choice);
       j["kernel_ms"] = choice.backend->kernel_ms();

@@ -54,17 +54,15 @@ SegmentedVolume read_and_segment(const std::string& input, const SegmentCli& s, 
   return r;
 }
 
-nlohmann::json segment_json(const seg::SegmentOptions& opt, const seg::Segmentation& s) {
+nlohmann::json segment_json(const seg::SegmentOptions& opt, const seg::SegmentationSummary& s) {
   nlohmann::json j;
   j["method"] = seg::method_name(opt.method);
   j["threshold"] = {{"lo", opt.threshold.lo},
                     {"hi", std::isinf(opt.threshold.hi) ? nlohmann::json() : nlohmann::json(opt.threshold.hi)}};
-  int64_t inside = 0;
-  for (float v : s.field.values) inside += v >= 0.0f ? 1 : 0;
-  j["inside_voxels"] = inside;
-  j["components_threshold"] = s.threshold_components.count;
-  j["components"] = s.components.count;
-  j["largest_component_voxels"] = s.components.sizes.empty() ? 0 : s.components.sizes.front();
+  j["inside_voxels"] = s.inside_voxels;
+  j["components_threshold"] = s.threshold_components;
+  j["components"] = s.components;
+  j["largest_component_voxels"] = s.largest_component_voxels;
   if (opt.method == seg::Method::kChanVese) {
     j["chan_vese"] = {{"window", {opt.window.lo, opt.window.hi}},
                       {"lambda1", opt.cv.lambda1},

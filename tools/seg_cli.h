@@ -31,6 +31,6 @@ struct SegmentedVolume {
 SegmentedVolume read_and_segment(const std::string& input, const SegmentCli& s, const BackendOptions& b,
                                  const CommonOptions& common, Progress& progress);
 
-nlohmann::json segment_json(const seg::SegmentOptions& opt, const seg::Segmentation& s);
+nlohmann::json segment_json(const seg::SegmentOptions& opt, const seg::SegmentationSummary& s);
 
 }  // namespace mpumesh::tools

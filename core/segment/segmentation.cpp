@@ -173,4 +173,13 @@ Window parse_window(const std::string& text) {
   return w;
 }
 
+SegmentationSummary summarize(const Segmentation& s) {
+  SegmentationSummary m;
+  for (float v : s.field.values) m.inside_voxels += v >= 0.0f ? 1 : 0;
+  m.threshold_components = s.threshold_components.count;
+  m.components = s.components.count;
+  m.largest_component_voxels = s.components.sizes.empty() ? 0 : s.components.sizes.front();
+  return m;
+}
+
 }  // namespace mpumesh::seg

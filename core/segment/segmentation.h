@@ -63,6 +63,13 @@ std::vector<float> window_image(const Volume& vol, Window w);
 // pixel gets -(nx + ny) (or +(nx + ny)) everywhere.
 std::vector<float> signed_distance_init(const std::vector<uint8_t>& mask, std::array<int64_t, 3> dims);
 
+// What the reports say of a segmentation.
+struct SegmentationSummary {
+  int64_t inside_voxels = 0;  // of the padded field (the padding is outside)
+  int64_t threshold_components = 0, components = 0, largest_component_voxels = 0;
+};
+SegmentationSummary summarize(const Segmentation& s);
+
 // "LO:HI" (numbers, LO < HI).
 Window parse_window(const std::string& text);
 const char* method_name(Method m);

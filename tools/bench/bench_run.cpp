@@ -5,7 +5,9 @@
 // topology, triangle quality, smoothness (mean dihedral angle) and fidelity to the
 // marching-cubes surface (mean and 99th-percentile distances both ways, and bones
 // missing: marching-cubes components of more than 100 triangles whose vertices lie
-// farther than 2 mm from the mesh, median). Ours runs on the backend `auto` picks.
+// farther than 2 mm from the mesh, median). Ours is the pipeline `mpumesh run VOLUME
+// --threshold T --quiet` runs, timed from reading the file to the checked mesh (the peers
+// get the volume already read), on the backend `auto` picks.
 // Usage:
 //   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto]
 #include <fmt/format.h>
@@ -13,6 +15,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <string>
 
 #include "cgal_mesh3_peer.h"
@@ -21,13 +24,8 @@
 #include "mc/marching_cubes.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
-#include "mesh/restricted_delaunay.h"
-#include "mpu/fit_tolerance.h"
-#include "mpu/mpu_fit.h"
 #include "mpu/polygonize.h"
-#include "particles/particle_system.h"
-#include "points/slice_points.h"
-#include "segment/segmentation.h"
+#include "pipeline/run_pipeline.h"
 #include "vulkan_backend.h"
 
 using namespace mpumesh;
@@ -36,6 +34,22 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double sec_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Each stage's time (summed over repeats, as the count raises repeat the sampling).
+class StageTimes : public pipeline::Observer {
+ public:
+  void begin(const std::string& stage) override { stage_ = stage, t0_ = Clock::now(); }
+  void end() override { seconds_[stage_] += sec_since(t0_); }
+  double at(const std::string& stage) const {
+    const auto it = seconds_.find(stage);
+    return it == seconds_.end() ? 0.0 : it->second;
+  }
+
+ private:
+  std::string stage_;
+  Clock::time_point t0_;
+  std::map<std::string, double> seconds_;
+};
 
 struct Row {
   std::string name;
@@ -114,7 +128,7 @@ int main(int argc, char** argv) {
   if (argc > 4) m3.facet_size = std::stod(argv[4]);
   if (argc > 5) m3.facet_distance = std::stod(argv[5]);
 
-  const Volume vol = read_volume(path);
+  const Volume vol = read_volume(path);  // for the peers
   std::printf("volume %s: %lld x %lld x %lld, spacing %.3f x %.3f x %.3f mm, threshold %g\n", path.c_str(),
               (long long)vol.dims[0], (long long)vol.dims[1], (long long)vol.dims[2], vol.spacing.x(), vol.spacing.y(),
               vol.spacing.z(), iso);
@@ -127,38 +141,26 @@ int main(int argc, char** argv) {
   const TriangleMesh mc_mesh = marching_cubes(vol, mc::ThresholdRange{iso}, cpu);
   const double t_mc = sec_since(t);
 
-  // Ours, stage by stage.
+  // Ours: the pipeline `mpumesh run VOLUME --threshold T --quiet` runs (core/pipeline),
+  // from reading the file to the checked mesh, without writing it.
+  pipeline::RunOptions ro;
+  ro.segment.method = seg::Method::kThreshold;  // --threshold alone
+  ro.segment.threshold = mc::ThresholdRange{iso};
+  ro.sample.particles = particles;  // 0: the product's default
+  ro.quality = false;               // --quiet and no report
+  StageTimes times;
   const auto t_all = Clock::now();
-  t = Clock::now();
-  seg::SegmentOptions so;
-  so.method = seg::Method::kThreshold;
-  so.threshold = mc::ThresholdRange{iso};
-  const seg::Segmentation segm = seg::segment(vol, so, *choice.backend);
-  const double t_seg = sec_since(t);
-  t = Clock::now();
-  const pts::SlicePoints sp = pts::extract_points(segm, vol);
-  const double t_points = sec_since(t);
-  t = Clock::now();
-  mpu::FitOptions fo;
-  fo.eps = mpu::volume_tolerance(sp.cloud, vol.in_plane_spacing()).eps;  // as `mpumesh run` does
-  const mpu::MpuSurface surf = mpu::fit_mpu(sp.cloud, fo);
-  const double t_fit = sec_since(t);
-  t = Clock::now();
-  particles::SampleOptions po;
-  po.particles = particles;
-  po.voxel_size = vol.in_plane_spacing();  // as `mpumesh run` does
-  particles::SampleStats pst;
-  const particles::ParticleState ps = particles::sample_surface(surf, sp.cloud.positions, po, *choice.backend, &pst);
-  const double t_particles = sec_since(t);
-  t = Clock::now();
-  RestrictedDelaunayStats rst;
-  const TriangleMesh ours = restricted_delaunay(surf, ps.x, &rst, 0, choice.backend.get());
-  const double t_tri = sec_since(t);
+  const pipeline::RunResult run = pipeline::run_pipeline(
+      path, ro, [&]() -> ComputeBackend& { return *choice.backend; }, &times);
   const double t_ours = sec_since(t_all);
-  std::printf("ours: segment %.2f s, points %.2f s (%zu), fit %.2f s (%zu leaves), particles %.2f s (%lld, %d "
-              "iterations, %s), triangulate %.2f s (%lld repair points): %.2f s\n",
-              t_seg, t_points, sp.cloud.size(), t_fit, surf.leaves.size(), t_particles, (long long)pst.particles,
-              pst.iterations, pst.converged ? "settled" : "at the cap", t_tri, (long long)rst.repair_points, t_ours);
+  const TriangleMesh& ours = run.mesh;
+  const mpu::MpuSurface& surf = run.surface;
+  const double t_seg = times.at("segment"), t_points = times.at("points"), t_fit = times.at("fit");
+  std::printf("ours: read %.2f s, segment %.2f s, points %.2f s (%zu), fit %.2f s (%zu leaves), particles %.2f s "
+              "(%lld, %d iterations, %s), triangulate %.2f s (%lld repair points, %zu count raises): %.2f s\n",
+              times.at("read volume"), t_seg, t_points, run.points, t_fit, surf.leaves.size(), times.at("particles"),
+              (long long)run.sample.particles, run.sample.iterations, run.sample.converged ? "settled" : "at the cap",
+              times.at("triangulate"), (long long)run.triangulation.repair_points, run.raises.size(), t_ours);
 
   t = Clock::now();
   const TriangleMesh poly = mpu::polygonize(surf, 0, cpu);

@@ -1,0 +1,120 @@
+// The whole job, as `mpumesh run` does it and as the benchmark and the tests time it: a
+// CT/MR volume (or a closed surface mesh, to remesh it) to a closed, oriented, adaptive
+// mesh on the fitted MPU surface. Its stages, in order:
+//   read -> segment (volumes) -> points -> fit -> sample and triangulate (sampling again
+//   with more particles while the triangulation shows the sample too sparse) -> surface
+//   attributes -> checks -> quality (optional) -> the report's baselines (optional).
+// Writing the outputs, and turning the result into text, JSON and HTML, are the caller's.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "compute/compute_backend.h"
+#include "mesh/quality.h"
+#include "mesh/restricted_delaunay.h"
+#include "mesh/triangle_mesh.h"
+#include "mpu/fit_tolerance.h"
+#include "mpu/mpu_fit.h"
+#include "particles/particle_system.h"
+#include "points/slice_points.h"
+#include "segment/segmentation.h"
+
+namespace mpumesh::pipeline {
+
+// What the stages say while they run: a stage's start and end (by name), and lines a
+// user should see. Every method does nothing unless overridden.
+class Observer {
+ public:
+  virtual ~Observer() = default;
+  virtual void begin(const std::string& /*stage*/) {}
+  virtual void end() {}
+  virtual void note(const std::string& /*line*/) {}
+};
+
+struct RunOptions {
+  seg::SegmentOptions segment;  // volumes only
+  pts::PointOptions points;     // volumes only
+  mpu::FitOptions fit;          // eps 0: from the scan (mpu/fit_tolerance.h), or from the points
+  // particles and spacing 0: the default count, which follows the volume's voxel size.
+  particles::SampleOptions sample;
+  // Samples again with kRaise times the particles while the triangulation needs repair
+  // points for more than a tenth of them, up to this many times; -1: 2 when neither a
+  // count nor a spacing is given, else 0.
+  int count_retries = -1;
+  bool quality = true;  // measure the mesh's quality (RunResult::quality)
+  QualityOptions quality_options;
+  // Keep the report's baselines: marching cubes of the volume (or the input mesh) and the
+  // original MPU mesh (the surface polygonized).
+  bool baselines = false;
+};
+
+// The factor on the particle count when sampling again (the spacing is divided by its
+// square root; a count is rounded up to a thousand particles).
+inline constexpr double kRaise = 1.5;
+
+// One sampling that the triangulation found too sparse, and what came next.
+struct CountRaise {
+  int64_t requested_particles = 0;
+  double requested_spacing_mm = 0;
+  int64_t asked_particles = 0, particles = 0, repair_points = 0;
+  int64_t next_requested_particles = 0;
+  double next_requested_spacing_mm = 0;
+};
+
+struct InputInfo {
+  std::string path;
+  bool mesh = false;
+  // A volume's geometry and what its reader said.
+  std::array<int64_t, 3> dims{0, 0, 0};
+  Eigen::Vector3d spacing{0, 0, 0};
+  std::string modality;
+  std::vector<std::string> read_notes;
+  // A mesh's size.
+  size_t vertices = 0, triangles = 0;
+};
+
+struct RunResult {
+  InputInfo input;
+  seg::SegmentOptions segment_options;     // volumes: as resolved
+  seg::SegmentationSummary segmentation;   // volumes
+  size_t points = 0;
+  mpu::FitOptions fit_options;             // with the eps the fit used
+  mpu::Tolerance tolerance;                // its source, when it came from the scan
+  bool eps_given = false;
+  mpu::FitStats fit;
+  mpu::MpuSurface surface;
+  particles::SampleOptions sample_options;  // of the last sampling
+  particles::SampleStats sample;
+  particles::ParticleState particles;
+  std::map<std::string, double> particle_kernel_ms;  // the particle kernels' device times
+  std::vector<CountRaise> raises;
+  RestrictedDelaunayStats triangulation;
+  TriangleMesh mesh;
+  bool has_quality = false;
+  Quality quality;
+  bool sparse = false;                      // still too sparse after the last sampling
+  // The reader's notes, then, when sparse, the note that says so (the last).
+  std::vector<std::string> notes;
+  std::vector<std::pair<std::string, TriangleMesh>> baselines;
+  uint64_t memory_estimate = 0;             // bytes, as checked before the long stages
+};
+
+// Opens the compute backend when the pipeline first needs it (after reading, so that a bad
+// input fails first); the backend outlives the call.
+using BackendOpener = std::function<ComputeBackend&()>;
+
+// Throws InputError for bad input (a path that reads as neither, an open or non-manifold
+// input mesh, no surface in the segmentation, a triangulation that is not a closed
+// oriented manifold) and NumericalError for a non-finite vertex.
+RunResult run_pipeline(const std::string& input, const RunOptions& options, const BackendOpener& open_backend,
+                       Observer* observer = nullptr);
+
+// Whether `path` names a surface mesh (.stl, .ply, .obj, .off) rather than a volume.
+bool is_mesh_path(const std::string& path);
+
+}  // namespace mpumesh::pipeline

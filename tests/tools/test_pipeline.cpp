@@ -1,0 +1,125 @@
+// core/pipeline: the function `mpumesh run` calls, called directly, as the benchmark and
+// the Python module call it.
+#include <gtest/gtest.h>
+
+#include "cli_support.h"
+#include "common/error.h"
+#include "compute/cpu_backend.h"
+#include "io/mesh_io.h"
+#include "io/read_file.h"
+#include "pipeline/run_pipeline.h"
+
+namespace mpumesh {
+namespace {
+
+class Recorder : public pipeline::Observer {
+ public:
+  std::vector<std::string> stages, notes;
+  int open = 0;  // stages still open
+  void begin(const std::string& stage) override { stages.push_back(stage), ++open; }
+  void end() override { --open; }
+  void note(const std::string& line) override { notes.push_back(line); }
+};
+
+pipeline::RunOptions ball_options() {
+  pipeline::RunOptions o;  // as `run --threshold 0 --particles 1500`: the threshold alone
+  o.segment.method = seg::Method::kThreshold;
+  o.segment.threshold = {0};
+  o.sample.particles = 1500;
+  return o;
+}
+
+TEST(Pipeline, WritesTheBytesTheCommandLineWrites) {
+  const std::string dir = test::temp_dir("pipeline");
+  const std::string ball = ball_phantom(dir);
+  ASSERT_EQ(run("run " + ball + " --threshold 0 --particles 1500 --backend cpu --quiet -o " + dir + "/cli.ply").code, 0);
+  CpuBackend cpu;
+  const pipeline::RunResult r = pipeline::run_pipeline(ball, ball_options(), [&]() -> ComputeBackend& { return cpu; });
+  write_mesh(r.mesh, dir + "/pipeline.ply");
+  EXPECT_EQ(read_file(dir + "/pipeline.ply"), read_file(dir + "/cli.ply"));
+}
+
+TEST(Pipeline, RunsItsStagesInOrderAndOpensTheBackendOnce) {
+  const std::string dir = test::temp_dir("pipeline_stages");
+  const std::string ball = ball_phantom(dir);
+  CpuBackend cpu;
+  int opened = 0;
+  Recorder rec;
+  pipeline::RunOptions o = ball_options();
+  o.baselines = true;
+  const pipeline::RunResult r = pipeline::run_pipeline(
+      ball, o,
+      [&]() -> ComputeBackend& {
+        ++opened;
+        EXPECT_EQ(rec.stages, std::vector<std::string>{"read volume"}) << "the input is read first";
+        return cpu;
+      },
+      &rec);
+  EXPECT_EQ(opened, 1);
+  EXPECT_EQ(rec.open, 0);
+  EXPECT_EQ(rec.stages, (std::vector<std::string>{"read volume", "segment", "points", "marching cubes (report)", "fit",
+                                                  "particles", "triangulate", "curvature", "quality",
+                                                  "original MPU (report)"}));
+  ASSERT_EQ(r.baselines.size(), 2u);
+  EXPECT_EQ(r.baselines[0].first, "marching cubes");
+  EXPECT_EQ(r.baselines[1].first, "original MPU");
+  EXPECT_TRUE(r.has_quality);
+  EXPECT_TRUE(r.quality.topo.closed);
+  EXPECT_FALSE(r.input.mesh);
+  EXPECT_EQ(r.input.dims, (std::array<int64_t, 3>{30, 28, 12}));
+  EXPECT_GT(r.points, 100u);
+  EXPECT_EQ(r.fit_options.eps, r.tolerance.eps) << "no eps given: the tolerance follows the scan";
+  EXPECT_EQ(r.mesh.curvature.size(), r.mesh.vertices.size());
+}
+
+TEST(Pipeline, RemeshesAClosedMeshAndRefusesAnOpenOne) {
+  const std::string dir = test::temp_dir("pipeline_mesh");
+  write_mesh(test::icosphere(10.0, 4), dir + "/ball.stl");
+  CpuBackend cpu;
+  pipeline::RunOptions o;
+  o.sample.spacing = 1.5;
+  o.quality = false;
+  const pipeline::RunResult r = pipeline::run_pipeline(dir + "/ball.stl", o, [&]() -> ComputeBackend& { return cpu; });
+  EXPECT_TRUE(r.input.mesh);
+  EXPECT_EQ(r.input.triangles, 20u * 256u);
+  EXPECT_FALSE(r.has_quality);
+  EXPECT_GT(r.mesh.triangles.size(), 500u);
+
+  TriangleMesh open = test::icosphere(10.0, 2);
+  open.triangles.pop_back();
+  write_mesh(open, dir + "/open.stl");
+  bool opened = false;
+  try {
+    pipeline::run_pipeline(dir + "/open.stl", o, [&]() -> ComputeBackend& {
+      opened = true;
+      return cpu;
+    });
+    ADD_FAILURE() << "an open mesh was remeshed";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("open.stl: the input mesh is not a closed manifold (3 border edges"),
+              std::string::npos)
+        << e.what();
+  }
+  EXPECT_FALSE(opened) << "the backend is opened only for a usable input";
+}
+
+TEST(Pipeline, NamesTheVolumeWhenItHoldsNoSurface) {
+  const std::string dir = test::temp_dir("pipeline_empty");
+  const std::string ball = ball_phantom(dir);
+  CpuBackend cpu;
+  pipeline::RunOptions o = ball_options();
+  o.segment.threshold = {5000};  // nothing is that bright
+  EXPECT_THROW(
+      {
+        try {
+          pipeline::run_pipeline(ball, o, [&]() -> ComputeBackend& { return cpu; });
+        } catch (const InputError& e) {
+          EXPECT_NE(std::string(e.what()).find(ball), std::string::npos) << e.what();
+          throw;
+        }
+      },
+      InputError);
+}
+
+}  // namespace
+}  // namespace mpumesh
