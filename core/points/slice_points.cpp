@@ -37,27 +37,42 @@ struct Part {
   }
 };
 
-}  // namespace
-
-SlicePoints extract_points(const seg::Segmentation& s, const Volume& geometry, const PointOptions& opt) {
-  const int64_t px = s.field.dims[0], py = s.field.dims[1], pz = s.field.dims[2], n = px * py;
-  const int64_t nz = pz - 2;
-  const double sx = geometry.spacing.x(), sy = geometry.spacing.y(), sz = geometry.spacing.z();
-  const float* field = s.field.values.data();
-  auto inside = [&](int64_t pk, int64_t i, int64_t j) { return field[i + px * (j + py * pk)] >= 0.0f ? 1.0 : 0.0; };
+// The padded segmentation field of a volume, slice by slice, in the volume's scaled index
+// frame (index * spacing): physical = origin + D * p.
+struct SliceStack {
+  const float* field;
+  int64_t px, py, n, nz;  // padded pixels per row and column, per slice; unpadded slices
+  double sx, sy, sz;
+  SliceStack(const seg::Segmentation& s, const Volume& geometry)
+      : field(s.field.values.data()),
+        px(s.field.dims[0]),
+        py(s.field.dims[1]),
+        n(px * py),
+        nz(s.field.dims[2] - 2),
+        sx(geometry.spacing.x()),
+        sy(geometry.spacing.y()),
+        sz(geometry.spacing.z()) {}
+  double inside(int64_t pk, int64_t i, int64_t j) const { return field[i + px * (j + py * pk)] >= 0.0f ? 1.0 : 0.0; }
   // The inside indicator of padded slice pk, bilinear at padded pixel coordinates (x, y).
-  auto indicator = [&](int64_t pk, double x, double y) {
+  double indicator(int64_t pk, double x, double y) const {
     const int64_t i = std::clamp<int64_t>(int64_t(std::floor(x)), 0, px - 2);
     const int64_t j = std::clamp<int64_t>(int64_t(std::floor(y)), 0, py - 2);
     const double fx = std::clamp(x - double(i), 0.0, 1.0), fy = std::clamp(y - double(j), 0.0, 1.0);
     return (1 - fy) * ((1 - fx) * inside(pk, i, j) + fx * inside(pk, i + 1, j)) +
            fy * ((1 - fx) * inside(pk, i, j + 1) + fx * inside(pk, i + 1, j + 1));
-  };
-  auto scaled = [&](double x, double y, double k) { return Eigen::Vector3d((x - 1) * sx, (y - 1) * sy, k * sz); };
+  }
+  Eigen::Vector3d scaled(double x, double y, double k) const {
+    return Eigen::Vector3d((x - 1) * sx, (y - 1) * sy, k * sz);
+  }
+};
 
-  SlicePoints out;
-  // Contour points, slice by slice.
-  auto t0 = Clock::now();
+// The vertices of every slice's contours, one part per slice, with their orientation
+// references: the contour's in-plane outward direction plus ±z where the adjacent slices
+// say the surface faces up or down.
+std::vector<Part> contour_points(const SliceStack& g) {
+  const int64_t px = g.px, py = g.py, n = g.n, nz = g.nz;
+  const double sx = g.sx, sy = g.sy;
+  const float* field = g.field;
   std::vector<Part> parts(static_cast<size_t>(nz));
   tbb::parallel_for(int64_t(0), nz, [&](int64_t k) {
     Part& part = parts[size_t(k)];
@@ -72,139 +87,201 @@ SlicePoints extract_points(const seg::Segmentation& s, const Volume& geometry, c
         const Eigen::Vector2d t((next.x() - prev.x()) * sx, (next.y() - prev.y()) * sy);
         Eigen::Vector2d outward(t.y(), -t.x());  // the inside is on the left
         if (outward.norm() > 0) outward.normalize();
-        const double up = indicator(pk - 1, p.x(), p.y()) - indicator(pk + 1, p.x(), p.y());
-        part.add(scaled(p.x(), p.y(), double(k)), Eigen::Vector3d(outward.x(), outward.y(), up), false, int32_t(k));
+        const double up = g.indicator(pk - 1, p.x(), p.y()) - g.indicator(pk + 1, p.x(), p.y());
+        part.add(g.scaled(p.x(), p.y(), double(k)), Eigen::Vector3d(outward.x(), outward.y(), up), false, int32_t(k));
       }
     }
   });
+  return parts;
+}
+
+// Cap points between padded slices pk and pk + 1 (part pk, k = pk - 1): see the header.
+std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) {
+  const int64_t px = g.px, py = g.py, n = g.n, nz = g.nz;
+  const double sx = g.sx, sy = g.sy, sz = g.sz;
+  const float* field = g.field;
+  std::vector<Part> caps(size_t(nz + 1));
+  if (!opt.caps) return caps;
+  const double min_sq = sz * sz, half_pixel = 0.5 * std::min(sx, sy);
+  // Pixel offsets closer than a slice spacing.
+  std::vector<std::pair<int64_t, int64_t>> disk;
+  const int64_t rx = int64_t(std::ceil(sz / sx)), ry = int64_t(std::ceil(sz / sy));
+  for (int64_t dj = -ry; dj <= ry; ++dj)
+    for (int64_t di = -rx; di <= rx; ++di)
+      if (std::pow(double(di) * sx, 2) + std::pow(double(dj) * sy, 2) < min_sq) disk.emplace_back(di, dj);
+  // One slice's mask and, computed when first needed, the squared distances to its
+  // region and to its outside. Consecutive pairs share a slice, so each range of pairs
+  // walks up the stack and computes every transform once.
+  struct SliceMaps {
+    int64_t pk = -1;
+    std::vector<uint8_t> mask;
+    std::vector<float> to_region, to_outside;
+    bool has_region = false, has_outside = false;
+  };
+  auto load = [&](SliceMaps& m, int64_t pk) {
+    m.pk = pk;
+    m.mask.resize(size_t(n));
+    for (int64_t p = 0; p < n; ++p) m.mask[size_t(p)] = field[p + n * pk] >= 0.0f;
+    m.has_region = m.has_outside = false;
+  };
+  auto region_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
+    if (!m.has_region) seg::squared_distance_2d(m.mask.data(), px, py, 1, sx, sy, m.to_region);
+    m.has_region = true;
+    return m.to_region;
+  };
+  auto outside_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
+    if (!m.has_outside) seg::squared_distance_2d(m.mask.data(), px, py, 0, sx, sy, m.to_outside);
+    m.has_outside = true;
+    return m.to_outside;
+  };
+  // The field's 3 x 3 in-plane mean at padded slice pk (the field is the intensity
+  // relative to the threshold; the mean cuts the noise by three).
+  auto box_mean = [&](int64_t pk, int64_t i, int64_t j) {
+    double sum = 0;
+    for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, py - 1); ++b)
+      for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a)
+        sum += field[a + px * (b + py * pk)];
+    const int64_t count = (std::min(j + 1, py - 1) - std::max<int64_t>(j - 1, 0) + 1) *
+                          (std::min(i + 1, px - 1) - std::max<int64_t>(i - 1, 0) + 1);
+    return sum / double(count);
+  };
+  auto real_slice = [&](int64_t pk) { return pk >= 1 && pk <= nz; };
+  // The height from the partial volume, in slices from `from`'s plane toward `to`'s:
+  // the slab of `from` spans [-1/2, 1/2] and `to`'s [1/2, 3/2]; the column is inside
+  // from below -1/2 up to the surface, so the grey of the two slabs says how far: the
+  // inside fractions' sum is (g_from + g_to - 2 g_out) / (g_in - g_out). The levels are
+  // local: g_in from the slice behind `from`, g_out from the one beyond `to`. Exact for
+  // a plane over the pixel when the slices are as thick as their spacing; the ruled
+  // surface between the contours lies inside every convex dome by its sagitta (0.3-1 mm
+  // on a 12 mm cap in 2.5 mm slices). -1 (not known, the ruled height stays) unless the
+  // column is what that reading assumes: the pixel and its neighbours inside `from` and
+  // outside `to`; one level for two slabs behind `from` and one beyond `to` (not a
+  // plate or gap thinner than that, nor bright cortex over dim marrow); the two slabs
+  // between those levels; and not both whole (a mask has no partial volume).
+  auto partial_volume_rise = [&](const SliceMaps& from, const SliceMaps& to, int64_t i, int64_t j) {
+    const int64_t step = to.pk - from.pk, behind = from.pk - step, beyond = to.pk + step;
+    if (!real_slice(behind) || !real_slice(behind - step) || !real_slice(beyond)) return -1.0;
+    for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, py - 1); ++b)
+      for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a)
+        if (!from.mask[size_t(a + px * b)] || to.mask[size_t(a + px * b)]) return -1.0;
+    const double g_from = box_mean(from.pk, i, j), g_to = box_mean(to.pk, i, j);
+    const double g_in = box_mean(behind, i, j), g_out = box_mean(beyond, i, j);
+    const double contrast = g_in - g_out, slack = kLevelSlack * contrast;
+    if (!(g_in > 0 && g_out < 0)) return -1.0;
+    // One level behind (two slabs alike), one beyond, and the two slabs between them.
+    if (std::abs(box_mean(behind - step, i, j) - g_in) > slack) return -1.0;
+    if (real_slice(beyond + step) && std::abs(box_mean(beyond + step, i, j) - g_out) > slack) return -1.0;
+    if (g_from > g_in + slack || g_to < g_out - slack) return -1.0;
+    // Both slabs whole (a mask, or a surface on the slabs' boundary): the grey adds nothing.
+    if (g_from > g_in - kLevelSlack * slack && g_to < g_out + kLevelSlack * slack) return -1.0;
+    return std::clamp((g_from + g_to - 2 * g_out) / contrast - 0.5, 0.0, 1.0);
+  };
+  // Inside `from`, outside `to`, and at least a slice spacing from `to`'s region. The
+  // height from the partial volume where the levels are known; else rising from
+  // `from`'s contour toward `to`'s: in proportion to the distances to the two contours
+  // where `to` has a region, else at 45 degrees up to the mid-plane (a dome top between
+  // slices).
+  auto add_caps = [&](SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) {
+    bool any = false;  // candidates first, by a disk test on the few changed pixels
+    for (int64_t j = 0; j < py && !any; ++j)
+      for (int64_t i = 0; i < px && !any; ++i) {
+        const int64_t p = i + px * j;
+        if (!from.mask[size_t(p)] || to.mask[size_t(p)]) continue;
+        bool near = false;
+        for (const auto& [di, dj] : disk) {
+          const int64_t a = i + di, b = j + dj;
+          if (a >= 0 && b >= 0 && a < px && b < py && to.mask[size_t(a + px * b)]) {
+            near = true;
+            break;
+          }
+        }
+        any = !near;
+      }
+    if (!any) return;
+    const auto& d_region = region_d2(to);
+    const auto& d_edge = outside_d2(from);
+    const double z_from = double(from.pk - 1);
+    for (int64_t j = 0; j < py; ++j)
+      for (int64_t i = 0; i < px; ++i) {
+        const int64_t p = i + px * j;
+        if (!from.mask[size_t(p)] || d_region[size_t(p)] < min_sq) continue;
+        const double d_from = std::max(std::sqrt(double(d_edge[size_t(p)])) - half_pixel, 0.0);
+        const double d_to = std::sqrt(double(d_region[size_t(p)])) - half_pixel;
+        double rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / sz) : d_from / (d_from + d_to);
+        const double pv = opt.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
+        if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
+        part.add(g.scaled(double(i), double(j), z_from + dir * rise), Eigen::Vector3d(0, 0, dir), true, k);
+      }
+  };
+  tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz + 1, 8), [&](const tbb::blocked_range<int64_t>& r) {
+    SliceMaps lo, hi;
+    load(lo, r.begin());
+    for (int64_t pk = r.begin(); pk != r.end(); ++pk) {
+      load(hi, pk + 1);
+      add_caps(lo, hi, 1.0, caps[size_t(pk)], int32_t(pk - 1));   // the region ends going up: faces +z
+      add_caps(hi, lo, -1.0, caps[size_t(pk)], int32_t(pk - 1));  // the region starts going up: faces -z
+      std::swap(lo, hi);
+    }
+  });
+  return caps;
+}
+
+// PCA normals, oriented by the reference, within `radius`; degenerate ones flagged.
+std::vector<Eigen::Vector3d> pca_normals(const std::vector<Eigen::Vector3d>& pos,
+                                         const std::vector<Eigen::Vector3d>& ref, double radius,
+                                         const PointOptions& opt, std::vector<uint8_t>& degenerate) {
+  std::vector<Eigen::Vector3d> normals(pos.size());
+  degenerate.assign(pos.size(), 0);
+  if (pos.empty()) return normals;
+  const NeighbourGrid grid(pos, radius);
+  const auto& order = grid.order();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, pos.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    std::vector<uint32_t> found;
+    for (size_t o = r.begin(); o != r.end(); ++o) {
+      const size_t i = order[o];
+      found.clear();
+      // Neighbours whose orientation reference agrees: not the far face of a thin wall.
+      grid.for_each_within(pos[i], [&](uint32_t j) {
+        if (ref[j].dot(ref[i]) > 0) found.push_back(j);
+      });
+      Eigen::Vector3d normal = ref[i].normalized();
+      bool degen = true;
+      if (int(found.size()) >= opt.min_neighbours) {
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (uint32_t j : found) mean += pos[j];
+        mean /= double(found.size());
+        Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+        for (uint32_t j : found) {
+          const Eigen::Vector3d d = pos[j] - mean;
+          cov += d * d.transpose();
+        }
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+        es.computeDirect(cov);
+        const Eigen::Vector3d ev = es.eigenvalues();  // ascending
+        if (ev[1] >= opt.collinear_ratio * ev[2]) {
+          normal = es.eigenvectors().col(0).normalized();
+          if (normal.dot(ref[i]) < 0) normal = -normal;
+          degen = false;
+        }
+      }
+      normals[i] = normal;
+      degenerate[i] = degen;
+    }
+  });
+  return normals;
+}
+
+}  // namespace
+
+SlicePoints extract_points(const seg::Segmentation& s, const Volume& geometry, const PointOptions& opt) {
+  const SliceStack g(s, geometry);
+  SlicePoints out;
+  auto t0 = Clock::now();
+  const std::vector<Part> parts = contour_points(g);
   out.stats.contour_seconds = seconds_since(t0);
 
-  // Cap points between padded slices pk and pk + 1 (k = pk - 1).
   t0 = Clock::now();
-  std::vector<Part> caps(size_t(nz + 1));
-  if (opt.caps) {
-    const double min_sq = sz * sz, half_pixel = 0.5 * std::min(sx, sy);
-    // Pixel offsets closer than a slice spacing.
-    std::vector<std::pair<int64_t, int64_t>> disk;
-    const int64_t rx = int64_t(std::ceil(sz / sx)), ry = int64_t(std::ceil(sz / sy));
-    for (int64_t dj = -ry; dj <= ry; ++dj)
-      for (int64_t di = -rx; di <= rx; ++di)
-        if (std::pow(double(di) * sx, 2) + std::pow(double(dj) * sy, 2) < min_sq) disk.emplace_back(di, dj);
-    // One slice's mask and, computed when first needed, the squared distances to its
-    // region and to its outside. Consecutive pairs share a slice, so each range of pairs
-    // walks up the stack and computes every transform once.
-    struct SliceMaps {
-      int64_t pk = -1;
-      std::vector<uint8_t> mask;
-      std::vector<float> to_region, to_outside;
-      bool has_region = false, has_outside = false;
-    };
-    auto load = [&](SliceMaps& m, int64_t pk) {
-      m.pk = pk;
-      m.mask.resize(size_t(n));
-      for (int64_t p = 0; p < n; ++p) m.mask[size_t(p)] = field[p + n * pk] >= 0.0f;
-      m.has_region = m.has_outside = false;
-    };
-    auto region_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
-      if (!m.has_region) seg::squared_distance_2d(m.mask.data(), px, py, 1, sx, sy, m.to_region);
-      m.has_region = true;
-      return m.to_region;
-    };
-    auto outside_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
-      if (!m.has_outside) seg::squared_distance_2d(m.mask.data(), px, py, 0, sx, sy, m.to_outside);
-      m.has_outside = true;
-      return m.to_outside;
-    };
-    // The field's 3 x 3 in-plane mean at padded slice pk (the field is the intensity
-    // relative to the threshold; the mean cuts the noise by three).
-    auto box_mean = [&](int64_t pk, int64_t i, int64_t j) {
-      double sum = 0;
-      for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, py - 1); ++b)
-        for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a)
-          sum += field[a + px * (b + py * pk)];
-      const int64_t count = (std::min(j + 1, py - 1) - std::max<int64_t>(j - 1, 0) + 1) *
-                            (std::min(i + 1, px - 1) - std::max<int64_t>(i - 1, 0) + 1);
-      return sum / double(count);
-    };
-    auto real_slice = [&](int64_t pk) { return pk >= 1 && pk <= nz; };
-    // The height from the partial volume, in slices from `from`'s plane toward `to`'s:
-    // the slab of `from` spans [-1/2, 1/2] and `to`'s [1/2, 3/2]; the column is inside
-    // from below -1/2 up to the surface, so the grey of the two slabs says how far: the
-    // inside fractions' sum is (g_from + g_to - 2 g_out) / (g_in - g_out). The levels are
-    // local: g_in from the slice behind `from`, g_out from the one beyond `to`. Exact for
-    // a plane over the pixel when the slices are as thick as their spacing; the ruled
-    // surface between the contours lies inside every convex dome by its sagitta (0.3-1 mm
-    // on a 12 mm cap in 2.5 mm slices). -1 (not known, the ruled height stays) unless the
-    // column is what that reading assumes: the pixel and its neighbours inside `from` and
-    // outside `to`; one level for two slabs behind `from` and one beyond `to` (not a
-    // plate or gap thinner than that, nor bright cortex over dim marrow); the two slabs
-    // between those levels; and not both whole (a mask has no partial volume).
-    auto partial_volume_rise = [&](const SliceMaps& from, const SliceMaps& to, int64_t i, int64_t j) {
-      const int64_t step = to.pk - from.pk, behind = from.pk - step, beyond = to.pk + step;
-      if (!real_slice(behind) || !real_slice(behind - step) || !real_slice(beyond)) return -1.0;
-      for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, py - 1); ++b)
-        for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a)
-          if (!from.mask[size_t(a + px * b)] || to.mask[size_t(a + px * b)]) return -1.0;
-      const double g_from = box_mean(from.pk, i, j), g_to = box_mean(to.pk, i, j);
-      const double g_in = box_mean(behind, i, j), g_out = box_mean(beyond, i, j);
-      const double contrast = g_in - g_out, slack = kLevelSlack * contrast;
-      if (!(g_in > 0 && g_out < 0)) return -1.0;
-      // One level behind (two slabs alike), one beyond, and the two slabs between them.
-      if (std::abs(box_mean(behind - step, i, j) - g_in) > slack) return -1.0;
-      if (real_slice(beyond + step) && std::abs(box_mean(beyond + step, i, j) - g_out) > slack) return -1.0;
-      if (g_from > g_in + slack || g_to < g_out - slack) return -1.0;
-      // Both slabs whole (a mask, or a surface on the slabs' boundary): the grey adds nothing.
-      if (g_from > g_in - kLevelSlack * slack && g_to < g_out + kLevelSlack * slack) return -1.0;
-      return std::clamp((g_from + g_to - 2 * g_out) / contrast - 0.5, 0.0, 1.0);
-    };
-    // Inside `from`, outside `to`, and at least a slice spacing from `to`'s region. The
-    // height from the partial volume where the levels are known; else rising from
-    // `from`'s contour toward `to`'s: in proportion to the distances to the two contours
-    // where `to` has a region, else at 45 degrees up to the mid-plane (a dome top between
-    // slices).
-    auto add_caps = [&](SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) {
-      bool any = false;  // candidates first, by a disk test on the few changed pixels
-      for (int64_t j = 0; j < py && !any; ++j)
-        for (int64_t i = 0; i < px && !any; ++i) {
-          const int64_t p = i + px * j;
-          if (!from.mask[size_t(p)] || to.mask[size_t(p)]) continue;
-          bool near = false;
-          for (const auto& [di, dj] : disk) {
-            const int64_t a = i + di, b = j + dj;
-            if (a >= 0 && b >= 0 && a < px && b < py && to.mask[size_t(a + px * b)]) {
-              near = true;
-              break;
-            }
-          }
-          any = !near;
-        }
-      if (!any) return;
-      const auto& d_region = region_d2(to);
-      const auto& d_edge = outside_d2(from);
-      const double z_from = double(from.pk - 1);
-      for (int64_t j = 0; j < py; ++j)
-        for (int64_t i = 0; i < px; ++i) {
-          const int64_t p = i + px * j;
-          if (!from.mask[size_t(p)] || d_region[size_t(p)] < min_sq) continue;
-          const double d_from = std::max(std::sqrt(double(d_edge[size_t(p)])) - half_pixel, 0.0);
-          const double d_to = std::sqrt(double(d_region[size_t(p)])) - half_pixel;
-          double rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / sz) : d_from / (d_from + d_to);
-          const double pv = opt.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
-          if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
-          part.add(scaled(double(i), double(j), z_from + dir * rise), Eigen::Vector3d(0, 0, dir), true, k);
-        }
-    };
-    tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz + 1, 8), [&](const tbb::blocked_range<int64_t>& r) {
-      SliceMaps lo, hi;
-      load(lo, r.begin());
-      for (int64_t pk = r.begin(); pk != r.end(); ++pk) {
-        load(hi, pk + 1);
-        add_caps(lo, hi, 1.0, caps[size_t(pk)], int32_t(pk - 1));   // the region ends going up: faces +z
-        add_caps(hi, lo, -1.0, caps[size_t(pk)], int32_t(pk - 1));  // the region starts going up: faces -z
-        std::swap(lo, hi);
-      }
-    });
-  }
+  const std::vector<Part> caps = cap_points(g, opt);
   std::vector<Eigen::Vector3d> pos, ref;
   for (const std::vector<Part>* list : {&parts, &caps})
     for (const Part& p : *list) {
@@ -217,49 +294,11 @@ SlicePoints extract_points(const seg::Segmentation& s, const Volume& geometry, c
     }
   out.stats.cap_seconds = seconds_since(t0);
 
-  // PCA normals, oriented by the reference.
   t0 = Clock::now();
-  const double radius = std::max(opt.radius_slices * sz, opt.radius_pixels * std::max(sx, sy));
+  const double radius = std::max(opt.radius_slices * g.sz, opt.radius_pixels * std::max(g.sx, g.sy));
   out.stats.pca_radius_mm = radius;
-  std::vector<Eigen::Vector3d> normals(pos.size());
-  std::vector<uint8_t> degenerate(pos.size(), 0);
-  if (!pos.empty()) {
-    const NeighbourGrid grid(pos, radius);
-    const auto& order = grid.order();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, pos.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-      std::vector<uint32_t> found;
-      for (size_t o = r.begin(); o != r.end(); ++o) {
-        const size_t i = order[o];
-        found.clear();
-        // Neighbours whose orientation reference agrees: not the far face of a thin wall.
-        grid.for_each_within(pos[i], [&](uint32_t j) {
-          if (ref[j].dot(ref[i]) > 0) found.push_back(j);
-        });
-        Eigen::Vector3d normal = ref[i].normalized();
-        bool degen = true;
-        if (int(found.size()) >= opt.min_neighbours) {
-          Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-          for (uint32_t j : found) mean += pos[j];
-          mean /= double(found.size());
-          Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-          for (uint32_t j : found) {
-            const Eigen::Vector3d d = pos[j] - mean;
-            cov += d * d.transpose();
-          }
-          Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
-          es.computeDirect(cov);
-          const Eigen::Vector3d ev = es.eigenvalues();  // ascending
-          if (ev[1] >= opt.collinear_ratio * ev[2]) {
-            normal = es.eigenvectors().col(0).normalized();
-            if (normal.dot(ref[i]) < 0) normal = -normal;
-            degen = false;
-          }
-        }
-        normals[i] = normal;
-        degenerate[i] = degen;
-      }
-    });
-  }
+  std::vector<uint8_t> degenerate;
+  const std::vector<Eigen::Vector3d> normals = pca_normals(pos, ref, radius, opt, degenerate);
   out.stats.degenerate_normals = std::count(degenerate.begin(), degenerate.end(), uint8_t(1));
   out.stats.normal_seconds = seconds_since(t0);
 
