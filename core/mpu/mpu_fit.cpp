@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "common/error.h"
 #include "common/lap_timer.h"
@@ -84,44 +85,66 @@ void check_not_flat(const PointCloud& c) {
                      std::to_string(wide) + " mm along it): a closed surface needs points around a volume");
 }
 
-}  // namespace
-
-MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* stats) {
-  validate(opt);
-  const auto t0 = std::chrono::steady_clock::now();
-  int64_t duplicates = 0;
-  const PointCloud cloud = without_duplicates(input, &duplicates);
-  if (cloud.size() < size_t(opt.nmin))
-    throw InputError("fit: " + std::to_string(cloud.size()) + " distinct points, fewer than --nmin " +
-                     std::to_string(opt.nmin));
-  check_not_flat(cloud);
-  PointsAdaptor adaptor{&cloud.positions};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
-  const double eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
-  // The median distance to the 12th nearest point (about the largest sampling gap), when
-  // the smallest radius or the slope length needs it.
-  const double gap12 = opt.min_radius < 0 || opt.fit_normals ? median_spacing(cloud.positions, tree, 12) : 0.0;
-  const double min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * gap12;
-  const double slope_length = opt.fit_normals ? 0.25 * gap12 : 0.0;
-
-  Eigen::Vector3d lo = cloud.positions[0], hi = lo;
-  for (const auto& p : cloud.positions) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
+// The state of one fit: the distinct points, their searches, the surface being built,
+// and the auxiliary points' values cached per octree level.
+class Fitter {
+ public:
+  Fitter(const PointCloud& cloud, const FitOptions& opt, MpuSurface& s)
+      : cloud(cloud), opt(opt), s(s), adaptor{&cloud.positions}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
+    tree.buildIndex();
+    eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
+    // The median distance to the 12th nearest point (about the largest sampling gap), when
+    // the smallest radius or the slope length needs it.
+    const double gap12 = opt.min_radius < 0 || opt.fit_normals ? median_spacing(cloud.positions, tree, 12) : 0.0;
+    min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * gap12;
+    slope_length = opt.fit_normals ? 0.25 * gap12 : 0.0;
   }
-  const double extent = std::max((hi - lo).maxCoeff(), 1e-6);
+  // The octree, level by level from the root: each cell fitted in parallel, split where
+  // its fit is off by more than eps. Fills the surface's leaves and `st`'s level figures.
+  void fit_levels(FitStats& st, LapTimer& timer);
+  double eps = 0, min_radius = 0, slope_length = 0;
+
+ private:
+  struct Outcome {
+    Leaf leaf;
+    double error = 0;
+    bool split = false;
+  };
+  // The support ball of a cell: radius alpha times its diagonal (at least the smallest),
+  // grown by lambda R until it holds nmin points.
+  struct Support {
+    Ball ball;
+    bool grown = false, at_min_radius = false;
+    size_t initial = 0;  // points before growing
+  };
+
+  double aux_value(const Eigen::Vector3d& q);
+  void lattice_points(const Cell& c, std::vector<AuxPoint>& aux);
+  std::vector<AuxPoint> aux_points(const Cell& c, bool lattice);
+  Support support(const Cell& c);
+  Outcome fit_ball(const Cell& c, const Ball& b, bool away);
+  // No usable fit at the depth cap (no auxiliary point agreed in sign): the plane through
+  // the ball's points along their mean normal, so f stays defined.
+  void plane_fallback(const Ball& ball, Outcome& o);
+  Outcome process(const Cell& c);
+  // A cell from its depth and index: the centre follows from the index, as the corners do.
+  Cell make_cell(int depth, const std::array<int64_t, 3>& ijk) const {
+    const double size = s.box_size / double(int64_t(1) << depth);
+    const Eigen::Vector3d centre =
+        s.box_min + size * Eigen::Vector3d(double(ijk[0]) + 0.5, double(ijk[1]) + 0.5, double(ijk[2]) + 0.5);
+    return Cell{centre, size, depth, ijk};
+  }
+
+  const PointCloud& cloud;
+  const FitOptions& opt;
+  MpuSurface& s;
+  PointsAdaptor adaptor;
+  KdTree tree;
   // Balls, growth and the auxiliary points' six nearest on a grid of cells about the
   // smallest ball (ball_search.h); the k-d tree keeps the large balls of the coarse levels
   // and the six nearest where the grid finds ties or too few points. (On the sample CT the
   // grid alone took the fit from 3.75 to 3.48 s, with the same .mpu bytes.)
-  const BallSearch search(cloud.positions, std::max(min_radius, 1e-3 * extent));
-  MpuSurface s;
-  s.box_size = extent * (1 + 2 * opt.margin);
-  s.box_min = 0.5 * (lo + hi) - Eigen::Vector3d::Constant(0.5 * s.box_size);
-  s.data_min = lo;
-  s.data_max = hi;
-
+  std::unique_ptr<BallSearch> search_;
   // Auxiliary points for a general quadric: the cell's corners and centre, with the mean
   // signed distance to their 6 nearest points when all 6 agree in sign (Ohtake 2003).
   // Neighbouring cells share corners, so within a level each corner's value is found once
@@ -129,219 +152,223 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   // cell asks first). On the sample CT this cut the fit's nearest-neighbour search time
   // by a third and the fit by 6%.
   tbb::concurrent_unordered_map<uint64_t, double> corner_values;  // NaN: signs disagree
-  auto aux_value = [&](const Eigen::Vector3d& q) {
-    uint32_t idx[6];
-    double d2[6];
-    nanoflann::KNNResultSet<double, uint32_t> rs(6);
-    // The grid's six nearest, unless two of the seven nearest are equally far: then the
-    // k-d tree's (which breaks such ties its own way, and has always decided them).
-    thread_local BallSearch::Near near;
-    thread_local std::vector<uint32_t> six;
-    if (search.nearest_strict(q, 6, min_radius, near, six) || search.nearest_strict(q, 6, 1.5 * min_radius, near, six)) {
-      rs.init(idx, d2);
-      for (size_t j = 0; j < 6; ++j) rs.addPoint(near.points[j].first, six[j]);
-    } else {
-      rs.init(idx, d2);
-      tree.findNeighbors(rs, q.data(), nanoflann::SearchParams());
-    }
-    int pos = 0, neg = 0;
-    double sum = 0;
-    for (size_t j = 0; j < rs.size(); ++j) {
-      const double d = (q - cloud.positions[idx[j]]).dot(cloud.normals[idx[j]]);
-      (d > 0 ? pos : neg)++;
-      sum += d;
-    }
-    return rs.size() > 0 && (pos == 0 || neg == 0) ? sum / double(rs.size()) : NAN;
-  };
-  // A cell away from the data (see `away` below) also gets its 12 edge midpoints and 6
-  // face centres: 27 points on the half-cell lattice, cached the same way. Its quadric is
-  // extrapolated from points outside the cell, and the 9 points alone leave it free to
+  // A cell away from the data (see `away` in process) also gets its 12 edge midpoints and
+  // 6 face centres: 27 points on the half-cell lattice, cached the same way. Its quadric
+  // is extrapolated from points outside the cell, and the 9 points alone leave it free to
   // cross zero between them: on the sample CT the 27 cut the original MPU mesh's p99
   // distance to marching cubes (its zero set away from the bone) from 11.5 to 0.67 mm.
   tbb::concurrent_unordered_map<uint64_t, double> half_values;
-  auto lattice_points = [&](const Cell& c, std::vector<AuxPoint>& aux) {
-    const uint64_t side = (uint64_t(2) << c.depth) + 1;  // half-cell lattice points per axis
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        for (int k = 0; k < 3; ++k) {
-          const int odd = (a == 1) + (b == 1) + (k == 1);
-          if (odd == 0 || odd == 3) continue;  // corners and the centre are there already
-          const std::array<int64_t, 3> h = {2 * c.ijk[0] + a, 2 * c.ijk[1] + b, 2 * c.ijk[2] + k};
-          const Eigen::Vector3d q =
-              s.box_min + 0.5 * c.size * Eigen::Vector3d(double(h[0]), double(h[1]), double(h[2]));
-          const uint64_t key = uint64_t(h[0]) + side * (uint64_t(h[1]) + side * uint64_t(h[2]));
-          double v;
-          if (const auto it = half_values.find(key); it != half_values.end()) {
-            v = it->second;
-          } else {
-            v = aux_value(q);
-            half_values.insert({key, v});
-          }
-          if (!std::isnan(v)) aux.push_back({q, v});
-        }
-  };
-  auto aux_points = [&](const Cell& c, bool lattice) {
-    std::vector<AuxPoint> aux;
-    const uint64_t side = (uint64_t(1) << c.depth) + 1;  // corners per axis at this depth
-    for (int k = 0; k < 9; ++k) {
-      Eigen::Vector3d q = c.centre;
-      double v;
-      if (k < 8) {
-        const std::array<int64_t, 3> corner = {c.ijk[0] + (k & 1), c.ijk[1] + ((k >> 1) & 1), c.ijk[2] + ((k >> 2) & 1)};
-        q = s.box_min + c.size * Eigen::Vector3d(double(corner[0]), double(corner[1]), double(corner[2]));
-        const uint64_t key = uint64_t(corner[0]) + side * (uint64_t(corner[1]) + side * uint64_t(corner[2]));
-        const auto it = corner_values.find(key);
-        if (it != corner_values.end()) {
+
+ public:
+  void make_search(double extent) {
+    search_ = std::make_unique<BallSearch>(cloud.positions, std::max(min_radius, 1e-3 * extent));
+  }
+};
+
+double Fitter::aux_value(const Eigen::Vector3d& q) {
+  const BallSearch& search = *search_;
+  uint32_t idx[6];
+  double d2[6];
+  nanoflann::KNNResultSet<double, uint32_t> rs(6);
+  // The grid's six nearest, unless two of the seven nearest are equally far: then the
+  // k-d tree's (which breaks such ties its own way, and has always decided them).
+  thread_local BallSearch::Near near;
+  thread_local std::vector<uint32_t> six;
+  if (search.nearest_strict(q, 6, min_radius, near, six) || search.nearest_strict(q, 6, 1.5 * min_radius, near, six)) {
+    rs.init(idx, d2);
+    for (size_t j = 0; j < 6; ++j) rs.addPoint(near.points[j].first, six[j]);
+  } else {
+    rs.init(idx, d2);
+    tree.findNeighbors(rs, q.data(), nanoflann::SearchParams());
+  }
+  int pos = 0, neg = 0;
+  double sum = 0;
+  for (size_t j = 0; j < rs.size(); ++j) {
+    const double d = (q - cloud.positions[idx[j]]).dot(cloud.normals[idx[j]]);
+    (d > 0 ? pos : neg)++;
+    sum += d;
+  }
+  return rs.size() > 0 && (pos == 0 || neg == 0) ? sum / double(rs.size()) : NAN;
+}
+
+void Fitter::lattice_points(const Cell& c, std::vector<AuxPoint>& aux) {
+  const uint64_t side = (uint64_t(2) << c.depth) + 1;  // half-cell lattice points per axis
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      for (int k = 0; k < 3; ++k) {
+        const int odd = (a == 1) + (b == 1) + (k == 1);
+        if (odd == 0 || odd == 3) continue;  // corners and the centre are there already
+        const std::array<int64_t, 3> h = {2 * c.ijk[0] + a, 2 * c.ijk[1] + b, 2 * c.ijk[2] + k};
+        const Eigen::Vector3d q =
+            s.box_min + 0.5 * c.size * Eigen::Vector3d(double(h[0]), double(h[1]), double(h[2]));
+        const uint64_t key = uint64_t(h[0]) + side * (uint64_t(h[1]) + side * uint64_t(h[2]));
+        double v;
+        if (const auto it = half_values.find(key); it != half_values.end()) {
           v = it->second;
         } else {
           v = aux_value(q);
-          corner_values.insert({key, v});
+          half_values.insert({key, v});
         }
+        if (!std::isnan(v)) aux.push_back({q, v});
+      }
+}
+
+std::vector<AuxPoint> Fitter::aux_points(const Cell& c, bool lattice) {
+  std::vector<AuxPoint> aux;
+  const uint64_t side = (uint64_t(1) << c.depth) + 1;  // corners per axis at this depth
+  for (int k = 0; k < 9; ++k) {
+    Eigen::Vector3d q = c.centre;
+    double v;
+    if (k < 8) {
+      const std::array<int64_t, 3> corner = {c.ijk[0] + (k & 1), c.ijk[1] + ((k >> 1) & 1), c.ijk[2] + ((k >> 2) & 1)};
+      q = s.box_min + c.size * Eigen::Vector3d(double(corner[0]), double(corner[1]), double(corner[2]));
+      const uint64_t key = uint64_t(corner[0]) + side * (uint64_t(corner[1]) + side * uint64_t(corner[2]));
+      const auto it = corner_values.find(key);
+      if (it != corner_values.end()) {
+        v = it->second;
       } else {
         v = aux_value(q);
+        corner_values.insert({key, v});
       }
-      if (!std::isnan(v)) aux.push_back({q, v});
+    } else {
+      v = aux_value(q);
     }
-    if (lattice) lattice_points(c, aux);
-    return aux;
-  };
+    if (!std::isnan(v)) aux.push_back({q, v});
+  }
+  if (lattice) lattice_points(c, aux);
+  return aux;
+}
 
-  struct Outcome {
-    Leaf leaf;
-    double error = 0;
-    bool split = false;
-  };
-  auto process = [&](const Cell& c) {
-    const double natural = opt.alpha * c.size * std::sqrt(3.0);
-    Ball ball{c.centre, std::max(natural, min_radius), {}};
-    // A ball held at the smallest radius would stay that size in the children: splitting
-    // cannot bring it closer to the data, and on a noisy or two-sheeted patch it would
-    // go on to the depth cap (8^depth cells).
-    const bool at_min_radius = natural < min_radius;
-    bool grown = false;
-    search.ball(ball.centre, ball.radius * ball.radius, ball.ids);
-    const size_t initial = ball.ids.size();
-    if (int(initial) < opt.nmin) {
-      // The ball grows by λ R until it holds nmin points: until R² exceeds the squared
-      // distance of the nmin-th nearest point (the search counts d² < R²), one k-th
-      // distance instead of a search per step. For the small balls of the deep levels it
-      // comes from the grid, searched from where a surface through the ball would hold
-      // nmin points (they grow as the radius squared); for the large balls of the coarse
-      // ones from the k-d tree, where the grid would collect thousands of points to find
-      // 30.
-      thread_local BallSearch::Near near;
-      near.points.clear();
-      near.radius = 0;
-      double need;
-      if (ball.radius <= 2 * min_radius) {
-        const double guess = std::sqrt(double(opt.nmin) / double(std::max<size_t>(initial, 1)));
-        need = search.kth_distance2(ball.centre, size_t(opt.nmin), ball.radius * std::clamp(guess, 1.1, 2.0), near);
-      } else {
-        std::vector<uint32_t> idx(size_t(opt.nmin));
-        std::vector<double> d2(size_t(opt.nmin));
-        nanoflann::KNNResultSet<double, uint32_t> rs(size_t(opt.nmin));
-        rs.init(idx.data(), d2.data());
-        tree.findNeighbors(rs, ball.centre.data(), nanoflann::SearchParams());
-        need = d2[rs.size() - 1];
-      }
-      for (int grow = 0; grow <= 200 && !(need < ball.radius * ball.radius); ++grow) ball.radius *= 1 + opt.lambda;
-      grown = true;
-      ball.ids.clear();
-      const double r2 = ball.radius * ball.radius;
-      if (ball.radius <= near.radius) {
-        for (const auto& [d2, id] : near.points)
-          if (d2 < r2) ball.ids.push_back(id);
-      } else {
-        search.ball(ball.centre, r2, ball.ids);
-      }
+Fitter::Support Fitter::support(const Cell& c) {
+  const BallSearch& search = *search_;
+  const double natural = opt.alpha * c.size * std::sqrt(3.0);
+  Support sup{Ball{c.centre, std::max(natural, min_radius), {}}};
+  Ball& ball = sup.ball;
+  // A ball held at the smallest radius would stay that size in the children: splitting
+  // cannot bring it closer to the data, and on a noisy or two-sheeted patch it would
+  // go on to the depth cap (8^depth cells).
+  sup.at_min_radius = natural < min_radius;
+  search.ball(ball.centre, ball.radius * ball.radius, ball.ids);
+  sup.initial = ball.ids.size();
+  const size_t initial = sup.initial;
+  if (int(initial) < opt.nmin) {
+    // The ball grows by λ R until it holds nmin points: until R² exceeds the squared
+    // distance of the nmin-th nearest point (the search counts d² < R²), one k-th
+    // distance instead of a search per step. For the small balls of the deep levels it
+    // comes from the grid, searched from where a surface through the ball would hold
+    // nmin points (they grow as the radius squared); for the large balls of the coarse
+    // ones from the k-d tree, where the grid would collect thousands of points to find
+    // 30.
+    thread_local BallSearch::Near near;
+    near.points.clear();
+    near.radius = 0;
+    double need;
+    if (ball.radius <= 2 * min_radius) {
+      const double guess = std::sqrt(double(opt.nmin) / double(std::max<size_t>(initial, 1)));
+      need = search.kth_distance2(ball.centre, size_t(opt.nmin), ball.radius * std::clamp(guess, 1.1, 2.0), near);
+    } else {
+      std::vector<uint32_t> idx(size_t(opt.nmin));
+      std::vector<double> d2(size_t(opt.nmin));
+      nanoflann::KNNResultSet<double, uint32_t> rs(size_t(opt.nmin));
+      rs.init(idx.data(), d2.data());
+      tree.findNeighbors(rs, ball.centre.data(), nanoflann::SearchParams());
+      need = d2[rs.size() - 1];
     }
-    // The ids are in the ball search's grid order, the same for every query: the fit does
-    // not depend on which search found them, nor on the threads. (Sorted by id instead,
-    // they cost 5% of the fit, and most of the coarse levels' time.)
-    const bool away = grown && 4 * initial < size_t(opt.nmin);
-    // The local fit of a ball (the kind chosen from its normals).
-    auto fit_ball = [&](const Ball& b) {
-      Outcome o;
-      const Eigen::Vector3d nbar = mean_normal(b, cloud);
-      bool within = nbar.norm() > 0;
-      const Eigen::Vector3d n = within ? Eigen::Vector3d(nbar.normalized()) : Eigen::Vector3d::UnitZ();
-      for (uint32_t id : b.ids) within = within && cloud.normals[id].dot(n) > 0;
-      // A cell whose ball had to grow from under a quarter of nmin points lies away from
-      // the surface; a height field fitted to the nearest patch would be extrapolated
-      // across the cell and cross zero there (spurious sheets). Its fit is the general
-      // quadric held to the signed distances of the auxiliary points at its corners and
-      // centre. (Cells that grew from more points keep the height field: on slice stacks
-      // the general quadric there tripled the curvature error.)
-      std::vector<AuxPoint> aux;
-      if (away) aux = aux_points(c, true);
-      if (away && aux.size() >= 5) {
-        o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
-      } else if (within) {
-        o.leaf = opt.local_fit == LocalFit::kOrthopoly
-                     ? fit_height_orthopoly(b, cloud, n, opt.max_degree, slope_length, &o.error)
-                     : fit_height_quadric(b, cloud, n, &o.error);
-      } else {
-        if (aux.empty()) aux = aux_points(c, false);
-        o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
-      }
-      return o;
-    };
-    // A ball of thousands of points (the coarse levels: the root's holds them all) is
-    // first fitted to an even subsample of 1,024 of them; when that fit is already off by
-    // more than eps at one of its points, the cell splits without the full fit, which
-    // took 1.3 s of the sample CT's 4.3 s in the eight coarsest levels (few cells, so on
-    // few threads).
-    constexpr size_t kProbePoints = 1024;
-    const bool may_split = c.depth < opt.max_depth && !grown && !at_min_radius;
-    if (may_split && ball.ids.size() > 2 * kProbePoints) {
-      Ball probe{ball.centre, ball.radius, {}};
-      const size_t stride = ball.ids.size() / kProbePoints;
-      for (size_t i = 0; i < ball.ids.size(); i += stride) probe.ids.push_back(ball.ids[i]);
-      Outcome p = fit_ball(probe);
-      if (p.error > eps) {
-        p.split = true;
-        return p;
-      }
+    for (int grow = 0; grow <= 200 && !(need < ball.radius * ball.radius); ++grow) ball.radius *= 1 + opt.lambda;
+    sup.grown = true;
+    ball.ids.clear();
+    const double r2 = ball.radius * ball.radius;
+    if (ball.radius <= near.radius) {
+      for (const auto& [d2, id] : near.points)
+        if (d2 < r2) ball.ids.push_back(id);
+    } else {
+      search.ball(ball.centre, r2, ball.ids);
     }
-    Outcome o = fit_ball(ball);
-    o.leaf.depth = uint8_t(c.depth);
-    // A cell whose ball had to grow holds too few points of its own: its children would
-    // grow to the same points, so it is not split (Ohtake et al.).
-    o.split = o.error > eps && c.depth < opt.max_depth && !grown && !at_min_radius;
-    if (!o.split && !std::isfinite(o.error)) {
-      // No usable fit at the depth cap (no auxiliary point agreed in sign): the plane
-      // through the ball's points along their mean normal, so f stays defined.
-      const Eigen::Vector3d nbar = mean_normal(ball, cloud);
-      const Eigen::Vector3d n = nbar.norm() > 0 ? Eigen::Vector3d(nbar.normalized()) : Eigen::Vector3d::UnitZ();
-      Leaf plane = o.leaf;
-      plane.kind = FitKind::kHeightOrthopoly;
-      plane.degree = 1;
-      plane.frame = frame_from_normal(n);
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (uint32_t id : ball.ids) mean += cloud.positions[id];
-      mean /= double(std::max<size_t>(ball.ids.size(), 1));
-      plane.coeffs = {};
-      plane.coeffs[15] = 1;
-      plane.coeffs[0] = -n.dot(mean - ball.centre) / ball.radius;
-      o.leaf = plane;
-      o.error = taubin_error(plane, ball, cloud);
-    }
-    return o;
-  };
+  }
+  // The ids are in the ball search's grid order, the same for every query: the fit does
+  // not depend on which search found them, nor on the threads. (Sorted by id instead,
+  // they cost 5% of the fit, and most of the coarse levels' time.)
+  return sup;
+}
 
-  // A cell from its depth and index: the centre follows from the index, as the corners do.
-  auto make_cell = [&](int depth, const std::array<int64_t, 3>& ijk) {
-    const double size = s.box_size / double(int64_t(1) << depth);
-    const Eigen::Vector3d centre =
-        s.box_min + size * Eigen::Vector3d(double(ijk[0]) + 0.5, double(ijk[1]) + 0.5, double(ijk[2]) + 0.5);
-    return Cell{centre, size, depth, ijk};
-  };
+// The local fit of a ball (the kind chosen from its normals).
+Fitter::Outcome Fitter::fit_ball(const Cell& c, const Ball& b, bool away) {
+  Outcome o;
+  const Eigen::Vector3d nbar = mean_normal(b, cloud);
+  bool within = nbar.norm() > 0;
+  const Eigen::Vector3d n = within ? Eigen::Vector3d(nbar.normalized()) : Eigen::Vector3d::UnitZ();
+  for (uint32_t id : b.ids) within = within && cloud.normals[id].dot(n) > 0;
+  // A cell whose ball had to grow from under a quarter of nmin points lies away from
+  // the surface; a height field fitted to the nearest patch would be extrapolated
+  // across the cell and cross zero there (spurious sheets). Its fit is the general
+  // quadric held to the signed distances of the auxiliary points at its corners and
+  // centre. (Cells that grew from more points keep the height field: on slice stacks
+  // the general quadric there tripled the curvature error.)
+  std::vector<AuxPoint> aux;
+  if (away) aux = aux_points(c, true);
+  if (away && aux.size() >= 5) {
+    o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
+  } else if (within) {
+    o.leaf = opt.local_fit == LocalFit::kOrthopoly
+                 ? fit_height_orthopoly(b, cloud, n, opt.max_degree, slope_length, &o.error)
+                 : fit_height_quadric(b, cloud, n, &o.error);
+  } else {
+    if (aux.empty()) aux = aux_points(c, false);
+    o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
+  }
+  return o;
+}
+
+void Fitter::plane_fallback(const Ball& ball, Outcome& o) {
+  const Eigen::Vector3d nbar = mean_normal(ball, cloud);
+  const Eigen::Vector3d n = nbar.norm() > 0 ? Eigen::Vector3d(nbar.normalized()) : Eigen::Vector3d::UnitZ();
+  Leaf plane = o.leaf;
+  plane.kind = FitKind::kHeightOrthopoly;
+  plane.degree = 1;
+  plane.frame = frame_from_normal(n);
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (uint32_t id : ball.ids) mean += cloud.positions[id];
+  mean /= double(std::max<size_t>(ball.ids.size(), 1));
+  plane.coeffs = {};
+  plane.coeffs[15] = 1;
+  plane.coeffs[0] = -n.dot(mean - ball.centre) / ball.radius;
+  o.leaf = plane;
+  o.error = taubin_error(plane, ball, cloud);
+}
+
+Fitter::Outcome Fitter::process(const Cell& c) {
+  const Support sup = support(c);
+  const Ball& ball = sup.ball;
+  const bool grown = sup.grown, at_min_radius = sup.at_min_radius;
+  const bool away = grown && 4 * sup.initial < size_t(opt.nmin);
+  // A ball of thousands of points (the coarse levels: the root's holds them all) is
+  // first fitted to an even subsample of 1,024 of them; when that fit is already off by
+  // more than eps at one of its points, the cell splits without the full fit, which
+  // took 1.3 s of the sample CT's 4.3 s in the eight coarsest levels (few cells, so on
+  // few threads).
+  constexpr size_t kProbePoints = 1024;
+  const bool may_split = c.depth < opt.max_depth && !grown && !at_min_radius;
+  if (may_split && ball.ids.size() > 2 * kProbePoints) {
+    Ball probe{ball.centre, ball.radius, {}};
+    const size_t stride = ball.ids.size() / kProbePoints;
+    for (size_t i = 0; i < ball.ids.size(); i += stride) probe.ids.push_back(ball.ids[i]);
+    Outcome p = fit_ball(c, probe, away);
+    if (p.error > eps) {
+      p.split = true;
+      return p;
+    }
+  }
+  Outcome o = fit_ball(c, ball, away);
+  o.leaf.depth = uint8_t(c.depth);
+  // A cell whose ball had to grow holds too few points of its own: its children would
+  // grow to the same points, so it is not split (Ohtake et al.).
+  o.split = o.error > eps && c.depth < opt.max_depth && !grown && !at_min_radius;
+  if (!o.split && !std::isfinite(o.error)) plane_fallback(ball, o);
+  return o;
+}
+
+void Fitter::fit_levels(FitStats& st, LapTimer& timer) {
   std::vector<Cell> level = {make_cell(0, {0, 0, 0})};
-  FitStats st;
-  st.eps = eps;
-  st.min_radius = min_radius;
-  LapTimer timer(t0);
-  st.seconds_setup = timer.lap();
   while (!level.empty()) {
     std::vector<Outcome> out(level.size());
     corner_values.clear();
@@ -369,6 +396,24 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     level = std::move(next);
     st.seconds_by_depth.push_back(timer.lap());
   }
+}
+
+// The points' bounding box, and the octree's box around it with the margin.
+void place_box(const PointCloud& cloud, const FitOptions& opt, MpuSurface& s) {
+  Eigen::Vector3d lo = cloud.positions[0], hi = lo;
+  for (const auto& p : cloud.positions) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double extent = std::max((hi - lo).maxCoeff(), 1e-6);
+  s.box_size = extent * (1 + 2 * opt.margin);
+  s.box_min = 0.5 * (lo + hi) - Eigen::Vector3d::Constant(0.5 * s.box_size);
+  s.data_min = lo;
+  s.data_max = hi;
+}
+
+// The leaves by kind (and the orthopoly ones by degree).
+void count_kinds(const MpuSurface& s, FitStats& st) {
   for (const Leaf& l : s.leaves) {
     if (l.kind == FitKind::kHeightOrthopoly) {
       ++st.height_orthopoly;
@@ -378,6 +423,30 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
     st.general_quadric += l.kind == FitKind::kGeneralQuadric;
   }
   st.leaves = int64_t(s.leaves.size());
+}
+
+}  // namespace
+
+MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* stats) {
+  validate(opt);
+  const auto t0 = std::chrono::steady_clock::now();
+  int64_t duplicates = 0;
+  const PointCloud cloud = without_duplicates(input, &duplicates);
+  if (cloud.size() < size_t(opt.nmin))
+    throw InputError("fit: " + std::to_string(cloud.size()) + " distinct points, fewer than --nmin " +
+                     std::to_string(opt.nmin));
+  check_not_flat(cloud);
+  MpuSurface s;
+  Fitter fitter(cloud, opt, s);
+  place_box(cloud, opt, s);
+  fitter.make_search(std::max((s.data_max - s.data_min).maxCoeff(), 1e-6));
+  FitStats st;
+  st.eps = fitter.eps;
+  st.min_radius = fitter.min_radius;
+  LapTimer timer(t0);
+  st.seconds_setup = timer.lap();
+  fitter.fit_levels(st, timer);
+  count_kinds(s, st);
 
   uint32_t cells = uint32_t(opt.grid_cells);
   if (cells == 0) {
