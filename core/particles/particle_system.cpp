@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 
 #include "common/error.h"
 #include "common/hash.h"
@@ -278,37 +279,63 @@ void check_finite(const ParticleState& st, int iteration, const std::string& dev
                          " (the surface or a kernel produced NaN); nothing was written");
 }
 
-ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
-                             const SampleOptions& opt_in, ComputeBackend& backend, SampleStats* stats_out) {
-  validate(opt_in);
-  SampleOptions opt = opt_in;
-  const bool by_default = opt.particles == 0 && opt.spacing == 0;
-  if (by_default) opt.particles = kDefaultParticles;
-  SampleStats st_local;
-  SampleStats& stats = stats_out ? *stats_out : st_local;
-  stats = SampleStats{};
-  const auto t_seed = Clock::now();
-  if (candidates.size() < 4) throw InputError("sample: fewer than 4 candidate points to seed the particles from");
-  stats.candidates = int64_t(candidates.size());
+namespace {
 
+// One sampling's state, built up by its steps in order: the pool and its area, the
+// weights and the flat spacing, the seeds, the iterations, the final checks.
+struct Sampler {
+  Sampler(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates, const SampleOptions& opt,
+          ComputeBackend& backend, SampleStats& stats)
+      : s(s), candidates(candidates), opt(opt), backend(backend), stats(stats) {}
+  const mpu::MpuSurface& s;
+  const std::vector<Eigen::Vector3d>& candidates;
+  SampleOptions opt;
+  ComputeBackend& backend;
+  SampleStats& stats;
+  bool by_default = false;
+  Clock::time_point t_seed;
+  double extent = 0, gap = 0, r_pool = 0;
+  std::unique_ptr<DataSupport> support;
+  ParticleState pool;
+  std::vector<double> cell_area, lambda, thick;
+  double h = 0;
+  Targets tg;
+  std::vector<Eigen::Vector3d> fine;
+  std::vector<uint32_t> fine_pool;  // nearest pool point
+  std::vector<double> radius;
+  std::vector<size_t> seeds;
+  ParticleState st;
+  std::vector<double> thickness;
+  int64_t cap = 0;
+
+  // A point pulled onto f = 0 counts when it got there (within 1e-3 r_pool) near where it
+  // started (within 2 r_pool).
+  bool reached_surface(const ParticleState& p, size_t k, const Eigen::Vector3d& start) const {
+    return std::abs(p.distance[k]) < 1e-3 * r_pool && (p.x[k] - start).norm() <= 2 * r_pool;
+  }
+  void make_pool();
+  void measure_area();
+  void solve_spacing();
+  void seed();
+  void iterate();
+  void update_targets(int update);
+  void update_population(int it, PopulationRecord& rec);
+  void finish();
+};
+
+void Sampler::make_pool() {
+  extent = (s.data_max - s.data_min).maxCoeff();
   // 1. A pool: a Poisson-disk subset of the candidates at about their largest sampling
   //    gap (so that it covers the surface without holes between CT slices), on f = 0.
-  const double extent = (s.data_max - s.data_min).maxCoeff();
   PointsAdaptor adaptor{&candidates};
   KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
   tree.buildIndex();
-  const double gap = candidates.size() > 13 ? median_spacing(candidates, tree, 12) : extent / 50;
-  double r_pool = std::max(gap, extent / 400);
+  gap = candidates.size() > 13 ? median_spacing(candidates, tree, 12) : extent / 50;
+  r_pool = std::max(gap, extent / 400);
   if (opt.spacing > 0) r_pool = std::min(r_pool, std::max(opt.spacing * kDiskPerSpacing, extent / 400));
   // Particles farther than 4 r_pool from every candidate left the data for a spurious
   // sheet of f (particles/data_support.h) and are removed.
-  const DataSupport support(candidates, 4 * r_pool);
-  // A point pulled onto f = 0 counts when it got there (within 1e-3 r_pool) near where it
-  // started (within 2 r_pool).
-  auto reached_surface = [&](const ParticleState& p, size_t k, const Eigen::Vector3d& start) {
-    return std::abs(p.distance[k]) < 1e-3 * r_pool && (p.x[k] - start).norm() <= 2 * r_pool;
-  };
-  ParticleState pool;
+  support = std::make_unique<DataSupport>(candidates, 4 * r_pool);
   {
     std::vector<size_t> keep =
         poisson_disk(candidates, std::vector<double>(candidates.size(), r_pool), hashed_order(candidates.size(), opt.seed));
@@ -337,12 +364,15 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   }
   if (pool.size() < 4) throw InputError("sample: the candidate points do not lie on the surface (fewer than 4 reached f = 0)");
   stats.pool = int64_t(pool.size());
+}
+
+void Sampler::measure_area() {
   // Area: each pool point stands for the hexagon of its local spacing d6 (mean distance
   // to 6 neighbours), divided by 1.067: on the fitted sphere and ellipsoid Σ 0.866 d6²
   // came out 6.6% and 6.7% above the true area. (With that, 5,025 vs 5,027 mm² and
   // 4,892 vs 4,896 mm².)
   const std::vector<double> pool_d6 = local_spacing(pool.x);
-  std::vector<double> cell_area(pool.size());
+  cell_area.resize(pool.size());
   for (size_t i = 0; i < pool.size(); ++i) {
     cell_area[i] = kHexArea / 1.067 * pool_d6[i] * pool_d6[i];
     stats.area += cell_area[i];
@@ -354,9 +384,12 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   }
   if (opt.spacing == 0) stats.asked = opt.particles;
 
+}
+
+void Sampler::solve_spacing() {
   // 2. Weights, thickness and the flat spacing h (from --spacing, or solved so that the
   //    pool's area elements add up to the wanted count).
-  std::vector<double> lambda = curvature_weights(pool.curv, pool.distance, opt.curvature_scale, stats.kappa_lo,
+  lambda = curvature_weights(pool.curv, pool.distance, opt.curvature_scale, stats.kappa_lo,
                                                  stats.kappa_hi);
   auto count_for = [&](double h, const std::vector<double>& thick) {
     const Targets t = spacing_targets(lambda, thick, h, opt);
@@ -364,8 +397,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     for (size_t i = 0; i < pool.size(); ++i) n += cell_area[i] / (kHexArea * t.spacing[i] * t.spacing[i]);
     return n;
   };
-  double h = opt.spacing;
-  std::vector<double> thick;
+  h = opt.spacing;
   if (h == 0) {
     double inv = 0;
     for (size_t i = 0; i < pool.size(); ++i) inv += cell_area[i] / (lambda[i] * lambda[i]);
@@ -390,6 +422,9 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     thick = thicknesses(backend, s, pool, lambda, h / opt.thickness_factor);
   }
 
+}
+
+void Sampler::seed() {
   // 3. Seeds, drawn at the targets' density from the candidates themselves: the pool, at
   //    the input's largest sampling gap, is coarser than the targets where they are fine
   //    (seeded from it, the sample CT at --particles 45000 started with 31,200 particles,
@@ -403,10 +438,8 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   //    start near their equilibrium, and fission and death only adapt them. Only the
   //    seeds are then pulled onto f = 0.
   // (Graded over the pool, whose neighbours are linked within two pool spacings.)
-  Targets tg = spacing_targets(lambda, thick, h, opt);
+  tg = spacing_targets(lambda, thick, h, opt);
   grade_targets(pool.x, cell_area, tg, opt, 2 * r_pool);
-  std::vector<Eigen::Vector3d> fine;
-  std::vector<uint32_t> fine_pool;  // nearest pool point
   {
     const std::vector<size_t> keep =
         poisson_disk(candidates, std::vector<double>(candidates.size(), 0.5 * r_pool), hashed_order(candidates.size(), opt.seed + 2));
@@ -427,7 +460,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
       }
     });
   }
-  std::vector<double> radius(fine.size());
+  radius.resize(fine.size());
   const std::vector<uint32_t> seed_order = hashed_order(fine.size(), opt.seed + 1);
   auto seed_with = [&](double c) {
     for (size_t k = 0; k < fine.size(); ++k) radius[k] = c * tg.spacing[fine_pool[k]];
@@ -446,7 +479,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     return q.empty() ? 1.0 : q[q.size() / 2];
   };
   double c = kDiskPerSpacing;
-  std::vector<size_t> seeds = seed_with(c);
+  seeds = seed_with(c);
   for (int round = 0; round < 5 && seeds.size() >= 7; ++round) {
     const double f = 1 / spacing_ratio(seeds);
     if (std::abs(f - 1) < 0.01) break;
@@ -454,7 +487,6 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     seeds = seed_with(c);
   }
   stats.spacing = h;
-  ParticleState st;
   st.resize(seeds.size());
   for (size_t k = 0; k < seeds.size(); ++k) {
     st.x[k] = fine[seeds[k]];
@@ -470,7 +502,6 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   // Keep those that reached the surface near where they started (as the pool's), and of
   // those a Poisson-disk subset at the same radii on the surface: candidates off the
   // surface (leaf centres) or on CT slices' contours only land close together there.
-  std::vector<double> thickness;
   {
     std::vector<size_t> reached;
     std::vector<Eigen::Vector3d> at;
@@ -493,9 +524,75 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   order_spatially(st, thickness);
   stats.seeds = int64_t(st.size());
   check_finite(st, 0, "the CPU (seeding)");
-  const int64_t cap = opt.max_particles > 0 ? opt.max_particles : 8 * int64_t(st.size()) + 10000;
+  cap = opt.max_particles > 0 ? opt.max_particles : 8 * int64_t(st.size()) + 10000;
   stats.seconds_seed = seconds_since(t_seed);
 
+}
+
+// New targets from the particles' curvature (and, every 4th update, their thickness).
+void Sampler::update_targets(int update) {
+  lambda = curvature_weights(st.curv, st.distance, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
+  if (update % 4 == 0) thickness = thicknesses(backend, s, st, lambda, h / opt.thickness_factor);
+  tg = spacing_targets(lambda, thickness, h, opt);
+  {
+    std::vector<double> area(st.size());  // ∝ each particle's hexagon
+    for (size_t i = 0; i < st.size(); ++i) area[i] = st.sigma[i] * st.sigma[i];
+    grade_targets(st.x, area, tg, opt);
+  }
+  for (size_t i = 0; i < st.size(); ++i) st.target[i] = tg.spacing[i] / kSpacingPerSigma;
+  stats.thickness_bound = tg.thickness_bound;
+}
+
+// Splits and deaths, decided on the state as it is; the next population in index order.
+void Sampler::update_population(int it, PopulationRecord& rec) {
+  // Decide on the state as it is, then build the next population in index order:
+  // survivors (a splitting parent moved to one side), then the second children.
+  std::vector<uint8_t> fate = decide_population(st, opt, it, cap);
+  for (size_t i = 0; i < st.size(); ++i)
+    if (fate[i] != kDie && !support->near(st.x[i])) {
+      fate[i] = kDie;
+      ++stats.off_data;
+    }
+  ParticleState next;
+  std::vector<double> next_thick;
+  auto push = [&](size_t i, const Eigen::Vector3d& x, double sigma) {
+    next.x.push_back(x);
+    next.sigma.push_back(sigma);
+    next.target.push_back(st.target[i]);
+    next.normal.push_back(st.normal[i]);
+    next.distance.push_back(st.distance[i]);
+    next.curv.push_back(st.curv[i]);
+    next.energy.push_back(st.energy[i]);
+    next.speed.push_back(st.speed[i]);
+    next_thick.push_back(thickness[i]);
+  };
+  std::vector<Eigen::Vector3d> offset(st.size(), Eigen::Vector3d::Zero());
+  for (size_t i = 0; i < st.size(); ++i) {
+    if (fate[i] == kDie) {
+      ++rec.deaths;
+      continue;
+    }
+    const bool split = fate[i] == kSplit;
+    if (split) offset[i] = 0.5 * st.sigma[i] * tangent(st.normal[i], hash01(uint32_t(i), uint32_t(it), opt.seed, 1));
+    push(i, st.x[i] - offset[i], split ? st.sigma[i] / std::sqrt(2.0) : st.sigma[i]);
+  }
+  for (size_t i = 0; i < st.size(); ++i)
+    if (fate[i] == kSplit) {
+      push(i, st.x[i] + offset[i], st.sigma[i] / std::sqrt(2.0));
+      ++rec.births;
+    }
+  // Children keep their parent's thickness, measured on the surface: measured at
+  // their own positions, half a radius along the tangent plane and so off a curved
+  // surface, the search toward the near side crossed f = 0 at once and gave them a
+  // thickness near zero (and a spacing at the floor, hence more splits).
+  st = std::move(next);
+  thickness = std::move(next_thick);
+  order_spatially(st, thickness);
+  stats.births += rec.births;
+  stats.deaths += rec.deaths;
+}
+
+void Sampler::iterate() {
   // 4. Iterate; between batches update the weights and targets, split and kill.
   int it = 0, quiet_updates = 0, update = 0;
   bool final_batch = false;  // settled: one more batch to relax, without population changes
@@ -513,16 +610,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     // every 4th update (it costs up to 18 evaluations a particle); children take
     // their parent's (below).
     if (!final_batch) {
-      lambda = curvature_weights(st.curv, st.distance, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
-      if (update % 4 == 0) thickness = thicknesses(backend, s, st, lambda, h / opt.thickness_factor);
-      tg = spacing_targets(lambda, thickness, h, opt);
-      {
-        std::vector<double> area(st.size());  // ∝ each particle's hexagon
-        for (size_t i = 0; i < st.size(); ++i) area[i] = st.sigma[i] * st.sigma[i];
-        grade_targets(st.x, area, tg, opt);
-      }
-      for (size_t i = 0; i < st.size(); ++i) st.target[i] = tg.spacing[i] / kSpacingPerSigma;
-      stats.thickness_bound = tg.thickness_bound;
+      update_targets(update);
     }
 
     PopulationRecord rec;
@@ -535,51 +623,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     rec.mean_energy = energy / double(std::max<size_t>(st.size(), 1));
     rec.mean_move = move / double(std::max<size_t>(st.size(), 1));
     if (!final_batch) {
-      // Decide on the state as it is, then build the next population in index order:
-      // survivors (a splitting parent moved to one side), then the second children.
-      std::vector<uint8_t> fate = decide_population(st, opt, it, cap);
-      for (size_t i = 0; i < st.size(); ++i)
-        if (fate[i] != kDie && !support.near(st.x[i])) {
-          fate[i] = kDie;
-          ++stats.off_data;
-        }
-      ParticleState next;
-      std::vector<double> next_thick;
-      auto push = [&](size_t i, const Eigen::Vector3d& x, double sigma) {
-        next.x.push_back(x);
-        next.sigma.push_back(sigma);
-        next.target.push_back(st.target[i]);
-        next.normal.push_back(st.normal[i]);
-        next.distance.push_back(st.distance[i]);
-        next.curv.push_back(st.curv[i]);
-        next.energy.push_back(st.energy[i]);
-        next.speed.push_back(st.speed[i]);
-        next_thick.push_back(thickness[i]);
-      };
-      std::vector<Eigen::Vector3d> offset(st.size(), Eigen::Vector3d::Zero());
-      for (size_t i = 0; i < st.size(); ++i) {
-        if (fate[i] == kDie) {
-          ++rec.deaths;
-          continue;
-        }
-        const bool split = fate[i] == kSplit;
-        if (split) offset[i] = 0.5 * st.sigma[i] * tangent(st.normal[i], hash01(uint32_t(i), uint32_t(it), opt.seed, 1));
-        push(i, st.x[i] - offset[i], split ? st.sigma[i] / std::sqrt(2.0) : st.sigma[i]);
-      }
-      for (size_t i = 0; i < st.size(); ++i)
-        if (fate[i] == kSplit) {
-          push(i, st.x[i] + offset[i], st.sigma[i] / std::sqrt(2.0));
-          ++rec.births;
-        }
-      // Children keep their parent's thickness, measured on the surface: measured at
-      // their own positions, half a radius along the tangent plane and so off a curved
-      // surface, the search toward the near side crossed f = 0 at once and gave them a
-      // thickness near zero (and a spacing at the floor, hence more splits).
-      st = std::move(next);
-      thickness = std::move(next_thick);
-      order_spatially(st, thickness);
-      stats.births += rec.births;
-      stats.deaths += rec.deaths;
+      update_population(it, rec);
     }
     rec.count = int64_t(st.size());
     stats.history.push_back(rec);
@@ -602,6 +646,9 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
     }
   }
   stats.iterations = it;
+}
+
+void Sampler::finish() {
   // Which bound sets each particle's spacing at the end: its local thickness or its
   // curvature (spacing_targets, from the final curvature).
   std::vector<uint8_t> by_thickness(st.size());
@@ -615,14 +662,37 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   {  // and those that left the data in the final batch
     std::vector<size_t> rows;
     for (size_t i = 0; i < st.size(); ++i)
-      if (support.near(st.x[i])) rows.push_back(i);
+      if (support->near(st.x[i])) rows.push_back(i);
     stats.off_data += int64_t(st.size() - rows.size());
     if (rows.size() < st.size()) keep_rows(st, rows);
     stats.spacing_by_thickness.resize(rows.size());
     for (size_t k = 0; k < rows.size(); ++k) stats.spacing_by_thickness[k] = by_thickness[rows[k]];
   }
   stats.particles = int64_t(st.size());
-  return st;
+}
+
+}  // namespace
+
+ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
+                             const SampleOptions& opt_in, ComputeBackend& backend, SampleStats* stats_out) {
+  validate(opt_in);
+  SampleStats st_local;
+  SampleStats& stats = stats_out ? *stats_out : st_local;
+  stats = SampleStats{};
+  Sampler sampler(s, candidates, opt_in, backend, stats);
+  SampleOptions& opt = sampler.opt;
+  sampler.by_default = opt.particles == 0 && opt.spacing == 0;
+  if (sampler.by_default) opt.particles = kDefaultParticles;
+  sampler.t_seed = Clock::now();
+  if (candidates.size() < 4) throw InputError("sample: fewer than 4 candidate points to seed the particles from");
+  stats.candidates = int64_t(candidates.size());
+  sampler.make_pool();
+  sampler.measure_area();
+  sampler.solve_spacing();
+  sampler.seed();
+  sampler.iterate();
+  sampler.finish();
+  return std::move(sampler.st);
 }
 
 }  // namespace mpumesh::particles
