@@ -488,22 +488,71 @@ int64_t orient_components(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>
   return flipped;
 }
 
-TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
-                                 RestrictedDelaunayStats* stats_out, int64_t max_repair_points,
-                                 ComputeBackend* backend) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RestrictedDelaunayStats stats;
-  stats.particles = int64_t(points.size());
-  if (points.size() < 4) throw InputError("triangulate: fewer than 4 particles");
-  if (points.size() >= (size_t(1) << 31)) throw InputError("triangulate: too many particles");
-  Eigen::Vector3d lo = points[0], hi = lo;
-  for (const auto& p : points) {
-    lo = lo.cwiseMin(p);
-    hi = hi.cwiseMax(p);
+namespace {
+
+// One triangulation's state: the Delaunay triangulation of the particles and the repair
+// points, the restricted facets, and the figures.
+class Triangulation {
+ public:
+  Triangulation(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points, int64_t max_repair_points,
+                ComputeBackend* backend, RestrictedDelaunayStats& stats)
+      : s(s),
+        points(points),
+        backend(backend),
+        stats(stats),
+        lock(bounding_box(points), 50),
+        dt(K(), &lock),
+        max_repair(max_repair_points > 0 ? size_t(max_repair_points) : std::max<size_t>(20000, points.size())),
+        touched(points.size()) {}
+  // The Delaunay triangulation of the particles (in parallel, repeatably).
+  void delaunay();
+  // The manifold repair and the lost sheets: after it, `facets` are the restricted facets.
+  void make_manifold(LapTimer& timer);
+  // Components that no particle holds, or mostly off the sample (see sampled_components).
+  void remove_spurious();
+  // The facets as an oriented mesh: canonical order, used points then repair points.
+  TriangleMesh to_mesh();
+
+ private:
+  static CGAL::Bbox_3 bounding_box(const std::vector<Eigen::Vector3d>& points) {
+    Eigen::Vector3d lo = points[0], hi = lo;
+    for (const auto& p : points) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    return CGAL::Bbox_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z());
   }
-  Lock lock(CGAL::Bbox_3(lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()), 50);
-  Dt dt(K(), &lock);
-  {
+  // Inserts points as repair points (in an order that does not depend on where the cells
+  // lie in memory); the new vertices go to `inserted`. Each point comes with the radius of
+  // its facet's ball (0: none): a point closer than kRepairMerge of that radius to one
+  // inserted before it in the same call is left out, both crossings standing for one
+  // missing point. (Two groups' largest facets can have Voronoi edges that cross f = 0 at
+  // nearly one place; on the sample CT fitted with ε0 = 0.347 mm two repair points 3 µm
+  // apart made triangles of 0.2° and 0.4° that neither collapse nor relaxation could mend.
+  // A point left out is found again in the next round if it is still needed.)
+  static constexpr double kRepairMerge = 0.05;
+  void insert_repair(std::vector<std::pair<Eigen::Vector3d, double>> add, Cell hint);
+  // One round of the manifold repair; true when nothing is left to repair.
+  bool repair_round(int round, LapTimer& timer);
+  // Points on sheets no facet reaches (lost_sheet_points); false when there are none.
+  bool add_sheet_points();
+
+  const mpu::MpuSurface& s;
+  const std::vector<Eigen::Vector3d>& points;
+  ComputeBackend* backend;
+  RestrictedDelaunayStats& stats;
+  Lock lock;
+  Dt dt;
+  size_t max_repair;
+  // After the first round only the cells the new points made are looked at again.
+  std::vector<Eigen::Vector3d> repair;  // id - points.size() -> position
+  std::vector<RFacet> facets;
+  std::vector<char> touched;
+  std::vector<Dt::Vertex_handle> inserted;  // the last round's repair points
+  std::vector<char> is_sheet;               // per repair point: a lost-sheet point
+};
+
+void Triangulation::delaunay() {
     // Of points at one position only the first is inserted: which of them the triangulation
     // would keep depends, inserted in parallel, on the threads.
     std::vector<uint32_t> order(points.size());
@@ -522,152 +571,142 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
       pts.emplace_back(Point(points[i].x(), points[i].y(), points[i].z()), i);
     }
     dt.insert(pts.begin(), pts.end());
-  }
-  LapTimer timer(t0);
-  stats.seconds_delaunay = timer.lap();
-  // Manifold repair, as CGAL's surface mesher does with its Manifold_tag, but bounded and
-  // repeatable: while some edge has more than two restricted facets or some vertex more
-  // than one fan, each such element gets a point where the Voronoi edge of its largest
-  // facet (the one whose surface Delaunay ball, centred on that crossing, is widest)
-  // crosses f = 0; the cells that the new points replace are evaluated, and the facets
-  // found again.
-  const size_t max_repair =
-      max_repair_points > 0 ? size_t(max_repair_points) : std::max<size_t>(20000, points.size());
-  // After the first round only the cells the new points made are looked at again.
-  std::vector<Eigen::Vector3d> repair;  // id - points.size() -> position
-  std::vector<RFacet> facets;
-  std::vector<char> touched(points.size());
-  std::vector<Dt::Vertex_handle> inserted;  // the last round's repair points
-  std::vector<char> is_sheet;               // per repair point: a lost-sheet point
-  // Inserts points as repair points (in an order that does not depend on where the cells
-  // lie in memory); the new vertices go to `inserted`. Each point comes with the radius of
-  // its facet's ball (0: none): a point closer than kRepairMerge of that radius to one
-  // inserted before it in the same call is left out, both crossings standing for one
-  // missing point. (Two groups' largest facets can have Voronoi edges that cross f = 0 at
-  // nearly one place; on the sample CT fitted with ε0 = 0.347 mm two repair points 3 µm
-  // apart made triangles of 0.2° and 0.4° that neither collapse nor relaxation could mend.
-  // A point left out is found again in the next round if it is still needed.)
-  constexpr double kRepairMerge = 0.05;
-  auto insert_repair = [&](std::vector<std::pair<Eigen::Vector3d, double>> add, Cell hint) {
-    std::sort(add.begin(), add.end(), [](const auto& a, const auto& b) {
-      return std::lexicographical_compare(a.first.data(), a.first.data() + 3, b.first.data(), b.first.data() + 3);
-    });
-    inserted.clear();
-    // The points placed so far come in the order of their x (the sort above), so only
-    // those within the merge distance in x, the last few, can be that near.
-    std::vector<Eigen::Vector3d> placed;
-    for (const auto& [x, radius] : add) {
-      bool near = false;
-      const double bound = kRepairMerge * radius;
-      for (size_t k = placed.size(); k-- > 0 && !near && x.x() - placed[k].x() < bound;)
-        near = (x - placed[k]).norm() < bound;
-      if (near) {
-        ++stats.repair_merged;
-        continue;
-      }
-      placed.push_back(x);
-      const size_t n0 = dt.number_of_vertices();
-      const Dt::Vertex_handle v = dt.insert(Point(x.x(), x.y(), x.z()), hint);
-      if (dt.number_of_vertices() > n0) {
-        v->info() = uint32_t(points.size() + repair.size());
-        repair.push_back(x);
-        inserted.push_back(v);
-      }
-      hint = v->cell();
+}
+
+void Triangulation::insert_repair(std::vector<std::pair<Eigen::Vector3d, double>> add, Cell hint) {
+  std::sort(add.begin(), add.end(), [](const auto& a, const auto& b) {
+    return std::lexicographical_compare(a.first.data(), a.first.data() + 3, b.first.data(), b.first.data() + 3);
+  });
+  inserted.clear();
+  // The points placed so far come in the order of their x (the sort above), so only
+  // those within the merge distance in x, the last few, can be that near.
+  std::vector<Eigen::Vector3d> placed;
+  for (const auto& [x, radius] : add) {
+    bool near = false;
+    const double bound = kRepairMerge * radius;
+    for (size_t k = placed.size(); k-- > 0 && !near && x.x() - placed[k].x() < bound;)
+      near = (x - placed[k]).norm() < bound;
+    if (near) {
+      ++stats.repair_merged;
+      continue;
     }
+    placed.push_back(x);
+    const size_t n0 = dt.number_of_vertices();
+    const Dt::Vertex_handle v = dt.insert(Point(x.x(), x.y(), x.z()), hint);
+    if (dt.number_of_vertices() > n0) {
+      v->info() = uint32_t(points.size() + repair.size());
+      repair.push_back(x);
+      inserted.push_back(v);
+    }
+    hint = v->cell();
+  }
+}
+
+bool Triangulation::repair_round(int round, LapTimer& timer) {
+  touched.assign(points.size() + repair.size(), 0);
+  stats.seconds_repair += timer.lap();
+  evaluate_new_cells(s, dt, touched, backend, round == 0 ? nullptr : &inserted);
+  stats.seconds_evaluate += timer.lap();
+  facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
+  const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
+  const std::vector<std::pair<uint32_t, double>> wide = oversized_facets(facets, touched, touched.size());
+  if (groups.empty() && wide.empty()) return true;
+  if (repair.size() >= max_repair || round >= 100)
+    throw NumericalError("triangulate: " + std::to_string(groups.size()) +
+                         " non-manifold edges or vertices and " + std::to_string(wide.size()) +
+                         " wide facets remain after " + std::to_string(repair.size()) +
+                         " repair points in " + std::to_string(round) +
+                         " rounds: the particles are too sparse for this surface (ask for more)");
+  // The largest facet of each group, each crossing computed once and each facet once.
+  // The crossings (bisection on f) are found in parallel.
+  std::vector<uint32_t> need;
+  for (const auto& g : groups) need.insert(need.end(), g.begin(), g.end());
+  for (const auto& w : wide) need.push_back(w.first);
+  std::sort(need.begin(), need.end());
+  need.erase(std::unique(need.begin(), need.end()), need.end());
+  std::vector<std::pair<Eigen::Vector3d, double>> found(need.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, need.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      const RFacet& rf = facets[need[k]];
+      const Eigen::Vector3d x = crossing(s, dt, rf.cell, rf.i);
+      // The ball's radius: the distance to the facet's vertex of smallest id.
+      const Dt::Vertex_handle first = std::min(
+          {rf.cell->vertex((rf.i + 1) & 3), rf.cell->vertex((rf.i + 2) & 3), rf.cell->vertex((rf.i + 3) & 3)}, by_id);
+      found[k] = {x, (x - vec(first->point())).norm()};
+    }
+  });
+  std::unordered_map<uint32_t, std::pair<Eigen::Vector3d, double>> ball;  // facet -> (crossing, radius)
+  for (size_t k = 0; k < need.size(); ++k) ball.emplace(need[k], found[k]);
+  // Equal radii (cospherical points give several facets one Voronoi vertex) go to the
+  // facet with the smallest vertex ids, not to the first in memory: the parallel
+  // insertion puts cells in a different order each run.
+  auto sorted_ids = [&](uint32_t f) {
+    std::array<uint32_t, 3> v = facets[f].v;
+    std::sort(v.begin(), v.end());
+    return v;
   };
+  std::vector<uint32_t> chosen;
+  for (const auto& g : groups) {
+    uint32_t best = g[0];
+    double best_r = -1;
+    for (uint32_t f : g) {
+      const double r = ball.at(f).second;
+      if (r > best_r || (r == best_r && sorted_ids(f) < sorted_ids(best))) best_r = r, best = f;
+    }
+    chosen.push_back(best);
+  }
+  for (const auto& [f, bound] : wide)
+    if (ball.at(f).second > bound) {
+      chosen.push_back(f);
+      ++stats.wide_facets;
+    }
+  if (chosen.empty()) return true;  // no group, and no wide facet's ball past its bound
+  stats.repair_rounds = round + 1;
+  std::sort(chosen.begin(), chosen.end());
+  chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+  std::vector<std::pair<Eigen::Vector3d, double>> add;
+  for (uint32_t f : chosen) add.push_back(ball.at(f));
+  const size_t before = repair.size();
+  insert_repair(std::move(add), facets[chosen[0]].cell);
+  is_sheet.resize(repair.size(), 0);
+  if (repair.size() == before)
+    throw NumericalError("triangulate: the manifold repair made no progress (" + std::to_string(groups.size()) +
+                         " non-manifold edges or vertices)");
+  return false;
+}
+
+bool Triangulation::add_sheet_points() {
+  const size_t before = repair.size();
+  const std::vector<Eigen::Vector3d> sheet = lost_sheet_points(s, dt, facets, points, repair);
+  if (!sheet.empty()) {
+    std::vector<std::pair<Eigen::Vector3d, double>> add;
+    for (const Eigen::Vector3d& x : sheet) add.push_back({x, 0.0});
+    insert_repair(add, dt.infinite_cell());
+  }
+  stats.sheet_points += int64_t(repair.size() - before);
+  is_sheet.resize(repair.size(), 1);
+  return repair.size() != before;
+}
+
+// Manifold repair, as CGAL's surface mesher does with its Manifold_tag, but bounded and
+// repeatable: while some edge has more than two restricted facets or some vertex more
+// than one fan, each such element gets a point where the Voronoi edge of its largest
+// facet (the one whose surface Delaunay ball, centred on that crossing, is widest)
+// crosses f = 0; the cells that the new points replace are evaluated, and the facets
+// found again.
+void Triangulation::make_manifold(LapTimer& timer) {
   int round = 0;
   for (int pass = 0;; ++pass) {  // the manifold repair, then lost sheets (below)
-    for (;; ++round) {
-      touched.assign(points.size() + repair.size(), 0);
-      stats.seconds_repair += timer.lap();
-      evaluate_new_cells(s, dt, touched, backend, round == 0 ? nullptr : &inserted);
-      stats.seconds_evaluate += timer.lap();
-      facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
-      const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
-      const std::vector<std::pair<uint32_t, double>> wide = oversized_facets(facets, touched, touched.size());
-      if (groups.empty() && wide.empty()) break;
-      if (repair.size() >= max_repair || round >= 100)
-        throw NumericalError("triangulate: " + std::to_string(groups.size()) +
-                             " non-manifold edges or vertices and " + std::to_string(wide.size()) +
-                             " wide facets remain after " + std::to_string(repair.size()) +
-                             " repair points in " + std::to_string(round) +
-                             " rounds: the particles are too sparse for this surface (ask for more)");
-      // The largest facet of each group, each crossing computed once and each facet once.
-      // The crossings (bisection on f) are found in parallel.
-      std::vector<uint32_t> need;
-      for (const auto& g : groups) need.insert(need.end(), g.begin(), g.end());
-      for (const auto& w : wide) need.push_back(w.first);
-      std::sort(need.begin(), need.end());
-      need.erase(std::unique(need.begin(), need.end()), need.end());
-      std::vector<std::pair<Eigen::Vector3d, double>> found(need.size());
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, need.size(), 16), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t k = r.begin(); k != r.end(); ++k) {
-          const RFacet& rf = facets[need[k]];
-          const Eigen::Vector3d x = crossing(s, dt, rf.cell, rf.i);
-          // The ball's radius: the distance to the facet's vertex of smallest id.
-          const Dt::Vertex_handle first = std::min(
-              {rf.cell->vertex((rf.i + 1) & 3), rf.cell->vertex((rf.i + 2) & 3), rf.cell->vertex((rf.i + 3) & 3)}, by_id);
-          found[k] = {x, (x - vec(first->point())).norm()};
-        }
-      });
-      std::unordered_map<uint32_t, std::pair<Eigen::Vector3d, double>> ball;  // facet -> (crossing, radius)
-      for (size_t k = 0; k < need.size(); ++k) ball.emplace(need[k], found[k]);
-      // Equal radii (cospherical points give several facets one Voronoi vertex) go to the
-      // facet with the smallest vertex ids, not to the first in memory: the parallel
-      // insertion puts cells in a different order each run.
-      auto sorted_ids = [&](uint32_t f) {
-        std::array<uint32_t, 3> v = facets[f].v;
-        std::sort(v.begin(), v.end());
-        return v;
-      };
-      std::vector<uint32_t> chosen;
-      for (const auto& g : groups) {
-        uint32_t best = g[0];
-        double best_r = -1;
-        for (uint32_t f : g) {
-          const double r = ball.at(f).second;
-          if (r > best_r || (r == best_r && sorted_ids(f) < sorted_ids(best))) best_r = r, best = f;
-        }
-        chosen.push_back(best);
-      }
-      for (const auto& [f, bound] : wide)
-        if (ball.at(f).second > bound) {
-          chosen.push_back(f);
-          ++stats.wide_facets;
-        }
-      if (chosen.empty()) break;  // no group, and no wide facet's ball past its bound
-      stats.repair_rounds = round + 1;
-      std::sort(chosen.begin(), chosen.end());
-      chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
-      std::vector<std::pair<Eigen::Vector3d, double>> add;
-      for (uint32_t f : chosen) add.push_back(ball.at(f));
-      const size_t before = repair.size();
-      insert_repair(add, facets[chosen[0]].cell);
-      is_sheet.resize(repair.size(), 0);
-      if (repair.size() == before)
-        throw NumericalError("triangulate: the manifold repair made no progress (" + std::to_string(groups.size()) +
-                             " non-manifold edges or vertices)");
-    }
-    // Lost sheets (lost_sheet_points), twice at most, each time followed by the manifold
-    // repair around the new points.
+    while (!repair_round(round, timer)) ++round;
+    // Lost sheets, twice at most, each time followed by the manifold repair around the
+    // new points.
     facets = restricted_facets(dt);
-    if (pass == 2) break;
-    const size_t before = repair.size();
-    const std::vector<Eigen::Vector3d> sheet = lost_sheet_points(s, dt, facets, points, repair);
-    if (!sheet.empty()) {
-      std::vector<std::pair<Eigen::Vector3d, double>> add;
-      for (const Eigen::Vector3d& x : sheet) add.push_back({x, 0.0});
-      insert_repair(add, dt.infinite_cell());
-    }
-    stats.sheet_points += int64_t(repair.size() - before);
-    is_sheet.resize(repair.size(), 1);
-    if (repair.size() == before) break;
+    if (pass == 2 || !add_sheet_points()) break;
     ++round;
   }
+}
 
-  stats.seconds_repair += timer.lap();
-  {  // components that no particle holds, or mostly off the sample (see sampled_components)
+void Triangulation::remove_spurious() {
     std::vector<std::array<uint32_t, 3>> tris(facets.size());
     for (size_t f = 0; f < facets.size(); ++f) tris[f] = facets[f].v;
     // Off the sample: a repair point farther than kOffSample particle spacings from every
@@ -699,7 +738,9 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
       if (keep[f]) facets[n++] = facets[f];
     stats.spurious_triangles = int64_t(facets.size() - n);
     facets.resize(n);
-  }
+}
+
+TriangleMesh Triangulation::to_mesh() {
   // Triangles in a canonical order (each rotated to start at its smallest id, then sorted),
   // not in the order the cells lie in memory, which depends on the insertion history.
   for (RFacet& f : facets) std::rotate(f.v.begin(), std::min_element(f.v.begin(), f.v.end()), f.v.end());
@@ -724,13 +765,16 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
     for (size_t i = r.begin(); i != r.end(); ++i) outward[i] = mpu::evaluate_fg(s, mesh.vertices[i]).g;
   });
   stats.flipped_components = orient_components(mesh, outward);
-  // The repair points leave a few thin triangles (mesh/thin_triangles.h). The restricted
-  // Delaunay facets are faces of one tetrahedralization, so no two of them intersect; a
-  // collapse, flip or relaxed vertex can make a triangle that cuts another (across a thin
-  // plate). Such changes are found (the changed triangles against all, exact predicates)
-  // and the cleanup is done again with their vertices frozen; after three tries, none is
-  // kept.
-  stats.seconds_mesh = timer.lap();
+  return mesh;
+}
+
+// The repair points leave a few thin triangles (mesh/thin_triangles.h). The restricted
+// Delaunay facets are faces of one tetrahedralization, so no two of them intersect; a
+// collapse, flip or relaxed vertex can make a triangle that cuts another (across a thin
+// plate). Such changes are found (the changed triangles against all, exact predicates)
+// and the cleanup is done again with their vertices frozen; after three tries, none is
+// kept.
+void clean_up(const mpu::MpuSurface& s, TriangleMesh& mesh, RestrictedDelaunayStats& stats) {
   const TriangleMesh raw = mesh;
   std::vector<std::array<uint32_t, 3>> raw_tris;
   for (auto t : raw.triangles) {
@@ -804,6 +848,28 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   stats.edge_flips = tt.flips;
   stats.edge_collapses = tt.collapses;
   stats.vertices_relaxed = int64_t(relaxed.size());
+}
+
+}  // namespace
+
+TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
+                                 RestrictedDelaunayStats* stats_out, int64_t max_repair_points,
+                                 ComputeBackend* backend) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RestrictedDelaunayStats stats;
+  stats.particles = int64_t(points.size());
+  if (points.size() < 4) throw InputError("triangulate: fewer than 4 particles");
+  if (points.size() >= (size_t(1) << 31)) throw InputError("triangulate: too many particles");
+  Triangulation t(s, points, max_repair_points, backend, stats);
+  t.delaunay();
+  LapTimer timer(t0);
+  stats.seconds_delaunay = timer.lap();
+  t.make_manifold(timer);
+  stats.seconds_repair += timer.lap();
+  t.remove_spurious();
+  TriangleMesh mesh = t.to_mesh();
+  stats.seconds_mesh = timer.lap();
+  clean_up(s, mesh, stats);
   stats.seconds_cleanup = timer.lap();
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = stats;
