@@ -116,16 +116,10 @@ std::string fmt_num(const nlohmann::json& j) {
   return j.dump();
 }
 
-}  // namespace
-
-std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
-  const TriangleMesh ours = with_attributes(*in.ours.mesh);
-  if (ours.triangles.empty()) throw InputError(in.ours.name + ": the mesh has no triangles to report on");
-  const bool mpu_curvature = in.ours.mesh->curvature.size() == in.ours.mesh->vertices.size();
-  report::HtmlPage page("mpumesh report: " + in.ours.name);
-  const nlohmann::json& run = in.run;
-
-  // Input and summary.
+// Input and summary: the version and device, what run changed on its own and what it
+// advises, the input, the fit's tolerance and the particles removed off the data. (A run
+// report given to `mpumesh report` may be any JSON: only the expected shapes are read.)
+void add_summary(report::HtmlPage& page, const nlohmann::json& run) {
   std::string intro = "mpumesh " + report::escape_html(MPUMESH_VERSION);
   if (run.contains("backend")) intro += "; device: " + report::escape_html(fmt_num(run["backend"].value("device", "")));
   page.paragraph(intro);
@@ -170,8 +164,10 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
         "{} particles were removed for lying on a zero set of the fit away from every input point (a spurious "
         "sheet).",
         run["particles"]["off_data_removed"].get<int64_t>())));
-  std::vector<ReportMesh> all = {in.ours};
-  for (const auto& b : in.baselines) all.push_back(b);
+}
+
+// One row of figures per mesh; each mesh's per-triangle shapes, for the sections below.
+std::vector<PerTriangle> add_mesh_table(report::HtmlPage& page, const std::vector<ReportMesh>& all) {
   std::vector<PerTriangle> shapes;
   std::vector<std::vector<std::string>> rows;
   for (const auto& rm : all) {
@@ -190,13 +186,18 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
               "% triangles < 30 deg", "mean radius ratio", "mean dihedral (deg)", "% area axis-aligned"},
              rows);
 
+  return shapes;
+}
+
+// Our mesh coloured by K, by smallest angle and by edge length.
+void add_renders(report::HtmlPage& page, const TriangleMesh& ours, const std::string& k_source,
+                 ComputeBackend& backend) {
   // Renders of the result.
   page.heading("The result");
   render::RenderOptions ro;
   ro.width = 800, ro.height = 600;
   ro.color = render::ColorBy::kCurvature;
   ro.view = Eigen::Vector3d(1, -1, 1).normalized();
-  const std::string k_source = mpu_curvature ? "from the MPU surface" : "estimated from the mesh";
   std::vector<report::HtmlPage::Figure> figs;
   figs.push_back({render_png(backend, ours, ro), "Gaussian curvature K (" + k_source + "), view (1,-1,1)"});
   ro.view = Eigen::Vector3d(-1, 1, 1).normalized();
@@ -212,14 +213,18 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   figs.push_back({render_png(backend, ours, ro), "mean edge length of each triangle (mm), with edges"});
   page.figures(figs);
 
-  // Fig. 4: the same zoomed region of every mesh.
+}
+
+// The same zoomed region of every mesh (the paper's Fig. 4).
+void add_region(report::HtmlPage& page, const TriangleMesh& ours, const std::vector<ReportMesh>& all,
+                const std::vector<PerTriangle>& shapes, ComputeBackend& backend) {
   const Region reg = pick_region(ours);
   page.heading("The same region, side by side (the paper's Fig. 4)");
   page.paragraph(report::escape_html(fmt::format(
       "Region: the ball of radius {:.1f} mm at ({:.1f}, {:.1f}, {:.1f}) mm, where our mesh's integrated |K| is "
       "largest, seen along its mean normal ({:.2f}, {:.2f}, {:.2f}); triangles coloured by their smallest angle.",
       reg.radius, reg.centre.x(), reg.centre.y(), reg.centre.z(), reg.view.x(), reg.view.y(), reg.view.z())));
-  figs.clear();
+  std::vector<report::HtmlPage::Figure> figs;
   for (size_t i = 0; i < all.size(); ++i) {
     render::RenderOptions zo;
     zo.width = zo.height = 520;
@@ -237,7 +242,10 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   }
   page.figures(figs);
 
-  // Histograms.
+}
+
+void add_histograms(report::HtmlPage& page, const std::vector<ReportMesh>& all,
+                    const std::vector<PerTriangle>& shapes) {
   page.heading("Triangle shape");
   std::vector<report::Series> angle, ratio;
   for (size_t i = 0; i < all.size(); ++i) {
@@ -247,7 +255,12 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   page.svg(report::svg_histogram("Smallest angle of each triangle", "degrees", angle, 0, 60, 30));
   page.svg(report::svg_histogram("Radius ratio 2 r_in / r_circ", "radius ratio", ratio, 0, 1, 25));
 
-  // Adaptivity: spacing (mean incident edge length) against |K|.
+}
+
+// Spacing (mean incident edge length) against |K| on our mesh, and the particles' figures
+// from run's report.
+void add_adaptivity(report::HtmlPage& page, const TriangleMesh& ours, const nlohmann::json& run,
+                    const std::string& k_source) {
   std::vector<double> len_sum(ours.vertices.size(), 0.0), len_n(ours.vertices.size(), 0.0);
   for (const auto& t : ours.triangles)
     for (int c = 0; c < 3; ++c) {
@@ -296,7 +309,9 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
              : std::string("."))));
   }
 
-  // Stage times.
+}
+
+void add_stage_times(report::HtmlPage& page, const nlohmann::json& run) {
   if (run.contains("stage_seconds")) {
     std::vector<std::pair<std::string, double>> bars;
     for (const auto& [k, v] : run["stage_seconds"].items())
@@ -306,7 +321,9 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
     page.svg(report::svg_bars("Stage times on " + device, bars, "s"));
   }
 
-  // Parameters.
+}
+
+void add_parameters(report::HtmlPage& page, const nlohmann::json& run) {
   nlohmann::json params = nlohmann::json::object();
   for (const char* key : {"segmentation", "fit", "particles", "triangulation"})
     if (run.contains(key)) {
@@ -317,6 +334,26 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
     page.heading("Parameters and stage figures");
     page.pre(params.dump(2));
   }
+}
+
+}  // namespace
+
+std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
+  const TriangleMesh ours = with_attributes(*in.ours.mesh);
+  if (ours.triangles.empty()) throw InputError(in.ours.name + ": the mesh has no triangles to report on");
+  const bool mpu_curvature = in.ours.mesh->curvature.size() == in.ours.mesh->vertices.size();
+  const std::string k_source = mpu_curvature ? "from the MPU surface" : "estimated from the mesh";
+  report::HtmlPage page("mpumesh report: " + in.ours.name);
+  add_summary(page, in.run);
+  std::vector<ReportMesh> all = {in.ours};
+  for (const auto& b : in.baselines) all.push_back(b);
+  const std::vector<PerTriangle> shapes = add_mesh_table(page, all);
+  add_renders(page, ours, k_source, backend);
+  add_region(page, ours, all, shapes, backend);
+  add_histograms(page, all, shapes);
+  add_adaptivity(page, ours, in.run, k_source);
+  add_stage_times(page, in.run);
+  add_parameters(page, in.run);
   return page.html();
 }
 
