@@ -8,9 +8,9 @@
 #include "common/error.h"
 #include "compute/cpu_backend.h"
 #include "kernels/chan_vese_vk.h"
-#include "kernels/mc_vk.h"
+#include "kernels/marching_cubes_vk.h"
 #include "kernels/mpu_eval_vk.h"
-#include "kernels/particles_vk.h"
+#include "kernels/particle_step_vk.h"
 #include "vk/vk_check.h"
 
 namespace mpumesh::vk {

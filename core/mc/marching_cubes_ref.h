@@ -1,5 +1,5 @@
-// The CPU reference of the marching-cubes kernels (shaders/mc_classify.comp and
-// shaders/mc_generate.comp), in double precision, with the same output order as the GPU:
+// The CPU reference of the marching-cubes kernels (shaders/marching_cubes_classify.comp and
+// shaders/marching_cubes_generate.comp), in double precision, with the same output order as the GPU:
 // vertices by owning grid point (x fastest), then edge axis x, y, z; triangles by cube,
 // then table order. Vertex positions are continuous grid indices of the padded field.
 #pragma once

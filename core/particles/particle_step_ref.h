@@ -1,7 +1,7 @@
 // One iteration of the particle system (DESIGN.md stage 6, Witkin & Heckbert 1994 with
 // the paper's curvature weight) in double precision: the CPU reference of
-// shaders/particle_grid_*.comp, particle_repulsion.comp, particle_project.comp and
-// particle_thickness.comp, and the native CPU path. The population (fission, death) is decided between iterations by
+// shaders/particle_step_grid_*.comp, particle_step_repulsion.comp, particle_step_project.comp and
+// particle_step_thickness.comp, and the native CPU path. The population (fission, death) is decided between iterations by
 // particle_population.h, on the CPU for both backends.
 //
 // Per iteration, from positions x_i on f = 0 with repulsion radii σ_i:
@@ -76,7 +76,7 @@ struct ParticleState {
   void resize(size_t n);
 };
 
-// Particles sorted by cell of a uniform grid (counting sort), as particle_grid_*.comp
+// Particles sorted by cell of a uniform grid (counting sort), as particle_step_grid_*.comp
 // builds it on the GPU.
 struct ParticleGrid {
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
@@ -101,7 +101,7 @@ struct ParticleGrids {
 ParticleGrids build_particle_grids(const ParticleState& st, const StepParams& p);
 
 // Step 2 for every particle: writes x_new, sigma_new and st.energy, st.speed. The pairs
-// and formulas are those of particle_repulsion.comp; only the summation order differs.
+// and formulas are those of particle_step_repulsion.comp; only the summation order differs.
 void repulsion_step(ParticleState& st, const ParticleGrids& grids, const StepParams& p,
                     std::vector<Eigen::Vector3d>& x_new, std::vector<double>& sigma_new);
 
@@ -119,7 +119,7 @@ bool newton_project(const mpu::MpuSurface& s, Eigen::Vector3d& x, int steps, dou
 // infinity when there is none that near. Each direction is sampled at kThicknessSteps
 // even steps; the first step past the far sheet brackets the crossing, which
 // kThicknessBisections bisections narrow (to 1/128 of max_dist). The CPU reference of
-// shaders/particle_thickness.comp.
+// shaders/particle_step_thickness.comp.
 //
 // (Regula falsi after the bracketing, tried instead of the bisections, found the crossing
 // 30 times more precisely with 2 evaluations fewer, yet the sample CT's particles then

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "common/error.h"
-#include "shared/cv_abi.h"
+#include "shared/chan_vese_abi.h"
 
 namespace mpumesh::seg {
 

@@ -1,5 +1,5 @@
 // Chan-Vese "active contours without edges" on each slice of a stack, the CPU reference of
-// shaders/cv_means.comp and shaders/cv_update.comp (data contract: shaders/shared/cv_abi.h).
+// shaders/chan_vese_means.comp and shaders/chan_vese_update.comp (data contract: shaders/shared/chan_vese_abi.h).
 //
 // The scheme is the semi-implicit one of Chan and Vese (2001, eq. 9 with h = 1), in Jacobi
 // form: every neighbour is taken from the previous iterate, so the CPU (double) and the GPU

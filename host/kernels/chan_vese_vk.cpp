@@ -3,9 +3,9 @@
 #include <stdexcept>
 
 #include "common/error.h"
-#include "cv_means.spv.h"
-#include "cv_update.spv.h"
-#include "shared/cv_abi.h"
+#include "chan_vese_means.spv.h"
+#include "chan_vese_update.spv.h"
+#include "shared/chan_vese_abi.h"
 #include "vk/buffer.h"
 #include "vk/command.h"
 
@@ -28,8 +28,8 @@ constexpr int kIterationsPerSubmit = 32;
 
 ChanVeseKernel::ChanVeseKernel(Context& ctx)
     : ctx_(ctx),
-      means_(ctx, kSpv_cv_means, kMeansBindings, sizeof(abi::CvPush), default_workgroup_size(ctx)),
-      update_(ctx, kSpv_cv_update, kUpdateBindings, sizeof(abi::CvPush), default_workgroup_size(ctx)) {}
+      means_(ctx, kSpv_chan_vese_means, kMeansBindings, sizeof(abi::CvPush), default_workgroup_size(ctx)),
+      update_(ctx, kSpv_chan_vese_update, kUpdateBindings, sizeof(abi::CvPush), default_workgroup_size(ctx)) {}
 
 seg::ChanVeseResult ChanVeseKernel::run(const seg::ChanVeseStack& s, const seg::ChanVeseParams& p,
                                         std::map<std::string, double>& kernel_ms) {
@@ -68,10 +68,10 @@ seg::ChanVeseResult ChanVeseKernel::run(const seg::ChanVeseStack& s, const seg::
     Recorder rec(ctx_);
     for (int it = 0; it < kIterationsPerSubmit && done < p.iterations; ++it, ++done) {
       const Buffer* mb[] = {&u, cur, &means};
-      rec.dispatch(means_, mb, &push, slices, "cv_means");
+      rec.dispatch(means_, mb, &push, slices, "chan_vese_means");
       rec.barrier();
       const Buffer* ub[] = {&u, cur, next, &means};
-      rec.dispatch(update_, ub, &push, pixels, "cv_update");
+      rec.dispatch(update_, ub, &push, pixels, "chan_vese_update");
       rec.barrier();
       std::swap(cur, next);
     }

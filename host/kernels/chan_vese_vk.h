@@ -1,5 +1,5 @@
-// Chan-Vese on the GPU: per iteration cv_means.comp (one workgroup per slice) then
-// cv_update.comp (one invocation per pixel, all slices), ping-ponging two level-set
+// Chan-Vese on the GPU: per iteration chan_vese_means.comp (one workgroup per slice) then
+// chan_vese_update.comp (one invocation per pixel, all slices), ping-ponging two level-set
 // buffers. Same scheme as core/segment/chan_vese_ref.cpp, in float32.
 #pragma once
 

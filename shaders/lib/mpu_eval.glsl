@@ -17,7 +17,7 @@ struct MpuSample {
 
 // The second derivative evaluated with f and ∇f: none (what Newton steps need), the
 // blended Hessian (the surface's curvature: mpu_eval.comp) or the Hessian of f (the
-// particles' curvature weights: particle_project.comp; core/particles/particle_step_ref.h
+// particles' curvature weights: particle_step_project.comp; core/particles/particle_step_ref.h
 // says why). A uniform value (a push constant or a literal), so the branches do not
 // diverge.
 const uint MPU_NO_HESSIAN = 0u, MPU_BLENDED_HESSIAN = 1u, MPU_HESSIAN = 2u;

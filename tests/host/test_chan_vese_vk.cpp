@@ -1,4 +1,4 @@
-// Chan-Vese: the shaders (cv_means.comp, cv_update.comp) against the double-precision CPU
+// Chan-Vese: the shaders (chan_vese_means.comp, chan_vese_update.comp) against the double-precision CPU
 // reference, with validation on: one iteration from the same state (means and level set
 // to float precision), and all 100 iterations on a noisy phantom and on the sample CT
 // (masks agree on at least 99.9% of voxels, level sets within the stated tolerance).

@@ -554,7 +554,7 @@ TEST(Cli, GpuBackendAndDevices) {
   ASSERT_EQ(r.code, 0) << r.out;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["backend"]["kind"], "vulkan");
-  EXPECT_TRUE(j["kernel_ms"].contains("mc_classify"));
+  EXPECT_TRUE(j["kernel_ms"].contains("marching_cubes_classify"));
   EXPECT_TRUE(j["manifold"].get<bool>());
   // eval on the GPU agrees with the CPU to float precision.
   const test::AnalyticShape sphere{test::AnalyticShape::kSphere, 6, 6, 6};

@@ -1,4 +1,4 @@
-// Data contract of the marching-cubes kernels (mc_classify.comp, mc_generate.comp) and
+// Data contract of the marching-cubes kernels (marching_cubes_classify.comp, marching_cubes_generate.comp) and
 // their CPU reference (core/mc/marching_cubes_ref.cpp). One invocation per grid point of
 // the padded field; a point owns the grid edges that leave it along +x, +y, +z and, when
 // it is not on a far face, the cube whose min corner it is.

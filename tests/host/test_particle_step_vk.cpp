@@ -1,5 +1,5 @@
-// The particle shaders (particle_grid_*.comp, particle_repulsion.comp,
-// particle_project.comp; float32) against the double-precision CPU reference
+// The particle shaders (particle_step_grid_*.comp, particle_step_repulsion.comp,
+// particle_step_project.comp; float32) against the double-precision CPU reference
 // (core/particles/particle_step_ref.cpp), with validation on: one step from the same
 // state (positions, σ, energies, curvature, and the fission/death decisions made from
 // each), and whole runs on both backends (count within 2%, spacing statistics within 5%).
@@ -113,7 +113,7 @@ TEST(ParticlesVk, OneStepMatchesTheReference) {
   EXPECT_EQ(differ, 0);
 }
 
-// The seeding's projection (particle_project.comp alone, 8 Newton steps, with the
+// The seeding's projection (particle_step_project.comp alone, 8 Newton steps, with the
 // curvature) from points 0.4 mm off the surface, against project_step.
 TEST(ParticlesVk, ProjectionMatchesTheReference) {
   MPUMESH_VULKAN_OR_SKIP(gpu);
@@ -149,7 +149,7 @@ TEST(ParticlesVk, ProjectionMatchesTheReference) {
   EXPECT_LT(dK, 1e-3);
 }
 
-// The local thickness (particle_thickness.comp against local_thickness) across a spherical
+// The local thickness (particle_step_thickness.comp against local_thickness) across a spherical
 // shell 1.5 mm thick, from both its sheets, searched up to 4 mm: bisection toward f = 0 in
 // float and in double may go either way where f is within float's error of 0 at a
 // sample, after which both narrow onto the same crossing, so they agree to within two of

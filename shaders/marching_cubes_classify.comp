@@ -3,7 +3,7 @@
 // offsets. CPU reference: core/mc/marching_cubes_ref.cpp (classify_point).
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "shared/mc_abi.h"
+#include "shared/marching_cubes_abi.h"
 #include "lib/invocation.glsl"
 
 layout(local_size_x_id = 0) in;

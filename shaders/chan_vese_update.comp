@@ -4,7 +4,7 @@
 // CPU reference: core/segment/chan_vese_ref.cpp (chan_vese_step).
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "shared/cv_abi.h"
+#include "shared/chan_vese_abi.h"
 #include "lib/invocation.glsl"
 
 layout(local_size_x_id = 0) in;

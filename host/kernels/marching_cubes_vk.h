@@ -1,5 +1,5 @@
-// Marching cubes on the GPU: mc_classify.comp, two scans (vertex and triangle offsets),
-// then mc_generate.comp. Output identical in order and connectivity to
+// Marching cubes on the GPU: marching_cubes_classify.comp, two scans (vertex and triangle offsets),
+// then marching_cubes_generate.comp. Output identical in order and connectivity to
 // core/mc/marching_cubes_ref.cpp; positions agree to float precision.
 #pragma once
 

@@ -1,15 +1,15 @@
-#include "kernels/particles_vk.h"
+#include "kernels/particle_step_vk.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "particle_grid_count.spv.h"
-#include "particle_grid_scatter.spv.h"
-#include "particle_project.spv.h"
-#include "particle_repulsion.spv.h"
-#include "particle_thickness.spv.h"
-#include "shared/particle_abi.h"
+#include "particle_step_grid_count.spv.h"
+#include "particle_step_grid_scatter.spv.h"
+#include "particle_step_project.spv.h"
+#include "particle_step_repulsion.spv.h"
+#include "particle_step_thickness.spv.h"
+#include "shared/particle_step_abi.h"
 #include "vk/command.h"
 
 namespace mpumesh::vk {
@@ -25,19 +25,19 @@ std::vector<Binding> bindings(std::initializer_list<uint32_t> ids) {
 
 ParticleKernel::ParticleKernel(Context& ctx)
     : ctx_(ctx),
-      count_(ctx, kSpv_particle_grid_count, bindings({PT_BIND_POS, PT_BIND_CELL, PT_BIND_RANK, PT_BIND_START}),
+      count_(ctx, kSpv_particle_step_grid_count, bindings({PT_BIND_POS, PT_BIND_CELL, PT_BIND_RANK, PT_BIND_START}),
              sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
-      scatter_(ctx, kSpv_particle_grid_scatter, bindings({PT_BIND_CELL, PT_BIND_RANK, PT_BIND_START, PT_BIND_ORDER}),
+      scatter_(ctx, kSpv_particle_step_grid_scatter, bindings({PT_BIND_CELL, PT_BIND_RANK, PT_BIND_START, PT_BIND_ORDER}),
                sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
-      repulsion_(ctx, kSpv_particle_repulsion,
+      repulsion_(ctx, kSpv_particle_step_repulsion,
                  bindings({PT_BIND_POS, PT_BIND_POS_NEW, PT_BIND_NORMAL, PT_BIND_STATS, PT_BIND_CELL, PT_BIND_START,
                            PT_BIND_ORDER}),
                  sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
-      project_(ctx, kSpv_particle_project,
+      project_(ctx, kSpv_particle_step_project,
                bindings({MPU_BIND_LEAVES, MPU_BIND_OFFSETS, MPU_BIND_LEAF_IDS, PT_BIND_POS, PT_BIND_POS_NEW,
                          PT_BIND_NORMAL, PT_BIND_CURV}),
                sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
-      thickness_(ctx, kSpv_particle_thickness,
+      thickness_(ctx, kSpv_particle_step_thickness,
                  bindings({MPU_BIND_LEAVES, MPU_BIND_OFFSETS, MPU_BIND_LEAF_IDS, PT_BIND_POS, PT_BIND_NORMAL,
                            PT_BIND_STATS}),
                  sizeof(abi::ParticlePush), default_workgroup_size(ctx)),
@@ -81,7 +81,7 @@ void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState
   push.row = grid.row;
   Recorder rec(ctx_);
   const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &b_pos, &b_in, &b_nrm, &b_curv};
-  rec.dispatch(project_, bufs, &push, grid, "particle_project");
+  rec.dispatch(project_, bufs, &push, grid, "particle_step_project");
   rec.submit_and_wait(kernel_ms);
   const auto pos = b_pos.read<abi::vec4>(n), nrm = b_nrm.read<abi::vec4>(n), curv = b_curv.read<abi::vec4>(n);
   st.normal.resize(n);
@@ -119,7 +119,7 @@ std::vector<double> ParticleKernel::thickness(const MpuDeviceSurface& s, const s
   push.row = grid.row;
   Recorder rec(ctx_);
   const Buffer* bufs[] = {s.leaves.get(), s.offsets.get(), s.leaf_ids.get(), &b_pos, &b_nrm, &b_out};
-  rec.dispatch(thickness_, bufs, &push, grid, "particle_thickness");
+  rec.dispatch(thickness_, bufs, &push, grid, "particle_step_thickness");
   rec.submit_and_wait(kernel_ms);
   const auto out = b_out.read<abi::vec4>(count);
   for (size_t i = 0; i < count; ++i) t[i] = out[i].x;  // +inf stays +inf
@@ -197,15 +197,15 @@ void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st
   for (int it = 0; it < iterations; ++it) {
     rec.fill(b_start, 0);
     rec.barrier();
-    rec.dispatch(count_, count_bufs, &push, grid, "particle_grid");
+    rec.dispatch(count_, count_bufs, &push, grid, "particle_step_grid");
     rec.barrier();
     scan_.record(rec, b_start, cells + 1, scratch);
-    rec.dispatch(scatter_, scatter_bufs, &push, grid, "particle_grid");
+    rec.dispatch(scatter_, scatter_bufs, &push, grid, "particle_step_grid");
     rec.barrier();
-    rec.dispatch(repulsion_, rep_bufs, &push, grid, "particle_repulsion");
+    rec.dispatch(repulsion_, rep_bufs, &push, grid, "particle_step_repulsion");
     rec.barrier();
     push.curvature = it + 1 == iterations ? 1u : 0u;  // the curvature of the batch's end
-    rec.dispatch(project_, proj_bufs, &push, grid, "particle_project");
+    rec.dispatch(project_, proj_bufs, &push, grid, "particle_step_project");
     rec.barrier();
   }
   rec.copy(b_pos, down, v4, 0, 0);

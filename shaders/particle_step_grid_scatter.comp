@@ -2,7 +2,7 @@
 // counts, scan_*.comp): each particle to its slot in its cell's run.
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "shared/particle_abi.h"
+#include "shared/particle_step_abi.h"
 #include "lib/invocation.glsl"
 
 layout(local_size_x_id = 0) in;

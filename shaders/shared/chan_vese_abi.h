@@ -1,9 +1,9 @@
-// Data contract of the Chan-Vese kernels (cv_means.comp, cv_update.comp) and their CPU
+// Data contract of the Chan-Vese kernels (chan_vese_means.comp, chan_vese_update.comp) and their CPU
 // reference (core/segment/chan_vese_ref.cpp). The stack holds nz slices of nx * ny
 // pixels, x fastest. u is the windowed image (integers 0..255 stored as float), phi the
-// level set (inside: phi >= 0). Each iteration: cv_means reduces per slice the exact
+// level set (inside: phi >= 0). Each iteration: chan_vese_means reduces per slice the exact
 // integer sum and count of u inside and outside and writes the region means (c1, c2);
-// cv_update takes one semi-implicit Jacobi step from phi_in to phi_out.
+// chan_vese_update takes one semi-implicit Jacobi step from phi_in to phi_out.
 #ifndef MPUMESH_CV_ABI_H
 #define MPUMESH_CV_ABI_H
 #include "shared/abi_prelude.h"

@@ -5,7 +5,7 @@
 // so the output order is fixed and equals the CPU reference's.
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "shared/mc_abi.h"
+#include "shared/marching_cubes_abi.h"
 #include "lib/invocation.glsl"
 
 layout(local_size_x_id = 0) in;

@@ -5,7 +5,7 @@
 // core/particles/particle_step_ref.cpp (kThicknessSteps, kThicknessBisections there).
 #version 450
 #extension GL_GOOGLE_include_directive : require
-#include "shared/particle_abi.h"
+#include "shared/particle_step_abi.h"
 #include "lib/invocation.glsl"
 
 layout(local_size_x_id = 0) in;

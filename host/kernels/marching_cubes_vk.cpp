@@ -1,11 +1,11 @@
-#include "kernels/mc_vk.h"
+#include "kernels/marching_cubes_vk.h"
 
 #include <stdexcept>
 
 #include "mc/mc_table.h"
-#include "mc_classify.spv.h"
-#include "mc_generate.spv.h"
-#include "shared/mc_abi.h"
+#include "marching_cubes_classify.spv.h"
+#include "marching_cubes_generate.spv.h"
+#include "shared/marching_cubes_abi.h"
 
 namespace mpumesh::vk {
 namespace {
@@ -38,8 +38,8 @@ std::vector<abi::uvec4> packed_table() {
 
 McKernel::McKernel(Context& ctx)
     : ctx_(ctx),
-      classify_(ctx, kSpv_mc_classify, kClassifyBindings, sizeof(abi::McPush), default_workgroup_size(ctx)),
-      generate_(ctx, kSpv_mc_generate, kGenerateBindings, sizeof(abi::McPush), default_workgroup_size(ctx)),
+      classify_(ctx, kSpv_marching_cubes_classify, kClassifyBindings, sizeof(abi::McPush), default_workgroup_size(ctx)),
+      generate_(ctx, kSpv_marching_cubes_generate, kGenerateBindings, sizeof(abi::McPush), default_workgroup_size(ctx)),
       scan_(ctx) {
   auto table = packed_table();
   table_ = std::make_unique<Buffer>(ctx, table.size() * sizeof(abi::uvec4), kUniform);
@@ -59,7 +59,7 @@ mc::McMesh McKernel::run(const mc::McField& field, std::map<std::string, double>
   {
     Recorder rec(ctx_);
     const Buffer* bufs[] = {&f, &info, &voff, &toff, table_.get()};
-    rec.dispatch(classify_, bufs, &push, grid, "mc_classify");
+    rec.dispatch(classify_, bufs, &push, grid, "marching_cubes_classify");
     rec.barrier();
     scan_.record(rec, voff, uint32_t(n), scratch);
     scan_.record(rec, toff, uint32_t(n), scratch);
@@ -73,7 +73,7 @@ mc::McMesh McKernel::run(const mc::McField& field, std::map<std::string, double>
   {
     Recorder rec(ctx_);
     const Buffer* bufs[] = {&f, &info, &voff, &toff, &verts, &tris, table_.get()};
-    rec.dispatch(generate_, bufs, &push, grid, "mc_generate");
+    rec.dispatch(generate_, bufs, &push, grid, "marching_cubes_generate");
     rec.submit_and_wait(kernel_ms);
   }
   mc::McMesh mesh;

@@ -1,6 +1,6 @@
-// Data contract of the particle kernels (particle_grid_count.comp,
-// particle_grid_scatter.comp, particle_repulsion.comp, particle_project.comp,
-// particle_thickness.comp) and their CPU reference (core/particles/particle_step_ref.cpp). Positions are relative to the MPU
+// Data contract of the particle kernels (particle_step_grid_count.comp,
+// particle_step_grid_scatter.comp, particle_step_repulsion.comp, particle_step_project.comp,
+// particle_step_thickness.comp) and their CPU reference (core/particles/particle_step_ref.cpp). Positions are relative to the MPU
 // surface's origin (host/kernels/mpu_eval_vk.h), as in mpu_eval.comp; bindings 0-2 are
 // the surface's leaves, offsets and leaf ids. Per particle:
 //   pos     vec4 (x, y, z, σ)           the state
@@ -8,7 +8,7 @@
 //   normal  vec4 (n, d)                 ∇f/|∇f| and f/|∇f| after projection (d NaN: lost)
 //   curv    vec4 (κ1, κ2, K, H)         after projection, when push.curvature is set
 //   stats   vec4 (E, |ṗ|, 0, 0)         from repulsion
-// particle_thickness.comp reads pos as (x, y, z, reach) and normal's n, and writes the
+// particle_step_thickness.comp reads pos as (x, y, z, reach) and normal's n, and writes the
 // thickness (+inf: no other sheet within reach) to stats.x.
 // The neighbour grid: cell and rank (within its cell) per particle, start[cells + 1]
 // (counts, then their exclusive scan), order[] (particles by cell).
