@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "kernels/chan_vese_vk.h"
 #include "kernels/marching_cubes_vk.h"
 #include "kernels/mpu_eval_vk.h"

@@ -17,6 +17,7 @@
 #include "mpu/mpu_fit.h"
 #include "mpu/mpu_io.h"
 #include "mpu/polygonize.h"
+#include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh::tools {
 

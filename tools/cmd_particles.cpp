@@ -6,7 +6,7 @@
 
 #include "cli_util.h"
 #include "commands.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/point_io.h"

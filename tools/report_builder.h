@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "compute/compute_backend.h"
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh::tools {
 

@@ -1,17 +1,33 @@
-// One interface, one method per kernel, for the CPU path (core/compute/cpu_backend) and
-// the Vulkan path (host/vulkan_backend). Stage drivers take a ComputeBackend& and never
-// know which one they hold.
+// One interface, one method per kernel, for the CPU path (core/cpu/cpu_backend) and the
+// Vulkan path (host/vulkan_backend). Stage drivers take a ComputeBackend& and never know
+// which one they hold. The kernels' data types belong to their stages and are only
+// declared here: a caller includes the stage's reference header (named below) for them.
 #pragma once
 
+#include <Eigen/Dense>
 #include <map>
 #include <string>
-
-#include "mc/marching_cubes_ref.h"
-#include "mpu/mpu_eval_ref.h"
-#include "particles/particle_step_ref.h"
-#include "segment/chan_vese_ref.h"
+#include <vector>
 
 namespace mpumesh {
+
+namespace mc {
+struct McField;  // mc/mc_field.h
+struct McMesh;   // mc/marching_cubes_ref.h
+}  // namespace mc
+namespace seg {
+struct ChanVeseParams;  // segment/chan_vese_ref.h
+struct ChanVeseStack;
+struct ChanVeseResult;
+}  // namespace seg
+namespace mpu {
+struct MpuSurface;  // mpu/mpu_surface.h
+struct EvalRow;     // mpu/mpu_eval_ref.h
+}  // namespace mpu
+namespace particles {
+struct StepParams;  // particles/particle_step_ref.h
+struct ParticleState;
+}  // namespace particles
 
 class ComputeBackend {
  public:

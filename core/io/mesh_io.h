@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh {
 

@@ -9,7 +9,7 @@
 #include "common/error.h"
 #include "io/atomic_file.h"
 #include "io/read_file.h"
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh {
 namespace detail {

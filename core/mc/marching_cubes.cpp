@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "common/error.h"
+#include "mc/marching_cubes_ref.h"
 
 namespace mpumesh {
 

@@ -5,7 +5,7 @@
 
 #include "compute/compute_backend.h"
 #include "mc/mc_field.h"
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh {
 

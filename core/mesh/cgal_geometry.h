@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh {
 

@@ -8,7 +8,7 @@
 #include <optional>
 
 #include "mesh/topology.h"
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh {
 

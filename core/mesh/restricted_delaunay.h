@@ -22,7 +22,7 @@
 #include <functional>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 #include "mpu/mpu_surface.h"
 
 namespace mpumesh {

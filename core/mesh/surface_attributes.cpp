@@ -1,5 +1,7 @@
 #include "mesh/surface_attributes.h"
 
+#include "mpu/mpu_eval_ref.h"
+
 #include <cmath>
 #include <numbers>
 

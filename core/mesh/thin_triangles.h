@@ -18,7 +18,7 @@
 #include <functional>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh {
 

@@ -5,7 +5,7 @@
 
 #include <cstdint>
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 
 namespace mpumesh {
 

@@ -12,7 +12,7 @@
 
 #include <string>
 
-#include "points/point_cloud.h"
+#include "geometry/point_cloud.h"
 
 namespace mpumesh::mpu {
 

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "mpu/mpu_surface.h"
-#include "points/point_cloud.h"
+#include "geometry/point_cloud.h"
 
 namespace mpumesh::mpu {
 

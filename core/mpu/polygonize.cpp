@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "mc/marching_cubes.h"
 #include "mpu/mpu_eval_ref.h"
+#include "mc/marching_cubes_ref.h"
 
 namespace mpumesh::mpu {
 

@@ -5,7 +5,7 @@
 #pragma once
 
 #include "compute/compute_backend.h"
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 #include "mpu/mpu_surface.h"
 
 namespace mpumesh::mpu {

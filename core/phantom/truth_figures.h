@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 #include "phantom/ct_phantom.h"
 
 namespace mpumesh::phantom {

@@ -17,7 +17,7 @@
 #include "compute/compute_backend.h"
 #include "mesh/quality.h"
 #include "mesh/restricted_delaunay.h"
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 #include "mpu/fit_tolerance.h"
 #include "mpu/mpu_fit.h"
 #include "particles/particle_system.h"

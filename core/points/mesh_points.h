@@ -4,8 +4,8 @@
 // nothing; vertices of no (non-degenerate) triangle are left out.
 #pragma once
 
-#include "mesh/triangle_mesh.h"
-#include "points/point_cloud.h"
+#include "geometry/triangle_mesh.h"
+#include "geometry/point_cloud.h"
 
 namespace mpumesh::pts {
 

@@ -7,7 +7,7 @@
 // the surface: the noise a fit must not follow.
 #pragma once
 
-#include "points/point_cloud.h"
+#include "geometry/point_cloud.h"
 
 namespace mpumesh::pts {
 

@@ -26,7 +26,7 @@
 
 #include <cstdint>
 
-#include "points/point_cloud.h"
+#include "geometry/point_cloud.h"
 #include "segment/segmentation.h"
 #include "volume/volume.h"
 

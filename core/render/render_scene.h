@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 #include "render/image.h"
 #include "shared/render_abi.h"
 

@@ -5,7 +5,7 @@
 #include <numbers>
 
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mc/marching_cubes.h"
 #include "mesh/quality.h"
 #include "test_support.h"

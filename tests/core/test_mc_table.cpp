@@ -2,7 +2,7 @@
 // inside corners, and random binary volumes always give closed, oriented 2-manifolds.
 #include <gtest/gtest.h>
 
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mc/marching_cubes.h"
 #include "mc/mc_table.h"
 #include "mesh/topology.h"

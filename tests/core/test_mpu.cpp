@@ -11,7 +11,7 @@
 #include <random>
 
 #include "common/neighbour_grid.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "mpu/mpu_eval_ref.h"
 #include "mpu/mpu_fit.h"

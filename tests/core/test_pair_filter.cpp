@@ -11,7 +11,7 @@
 #include <random>
 
 #include "common/simd_level.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mpu/mpu_fit.h"
 #include "particles/pair_filter.h"
 #include "particles/particle_system.h"

@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mesh/quality.h"
 #include "mesh/topology.h"
 #include "mesh/restricted_delaunay.h"

@@ -8,7 +8,7 @@
 #include <filesystem>
 
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/point_io.h"
 #include "phantom/ct_phantom.h"
 #include "points/contours.h"

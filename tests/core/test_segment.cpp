@@ -6,7 +6,7 @@
 #include <random>
 
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "segment/components.h"
 #include "segment/distance_transform.h"
 #include "segment/segmentation.h"

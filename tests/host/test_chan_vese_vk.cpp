@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "segment/segmentation.h"
 #include "test_support.h"

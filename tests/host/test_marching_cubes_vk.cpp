@@ -4,11 +4,12 @@
 // the real sample CT.
 #include <gtest/gtest.h>
 
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mc/marching_cubes.h"
 #include "mesh/topology.h"
 #include "io/volume_io.h"
 #include "test_support.h"
+#include "mc/marching_cubes_ref.h"
 
 namespace mpumesh {
 namespace {

@@ -7,9 +7,10 @@
 #include <cmath>
 #include <random>
 
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mpu/mpu_fit.h"
 #include "test_support.h"
+#include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh {
 namespace {

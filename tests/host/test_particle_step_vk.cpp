@@ -9,7 +9,7 @@
 #include <limits>
 
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mpu/mpu_fit.h"
 #include "mesh/restricted_delaunay.h"
 #include "mesh/topology.h"

@@ -8,7 +8,7 @@
 #include <numbers>
 
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "mesh/surface_attributes.h"
 #include "render/mesh_render_vk.h"
 #include "render/raster_ref.h"

@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
-#include "mesh/triangle_mesh.h"
-#include "points/point_cloud.h"
+#include "geometry/triangle_mesh.h"
+#include "geometry/point_cloud.h"
 #include "volume/volume.h"
 #include "vulkan_backend.h"
 

@@ -4,7 +4,7 @@
 
 #include "cli_support.h"
 #include "common/error.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/mesh_io.h"
 #include "io/read_file.h"
 #include "pipeline/run_pipeline.h"

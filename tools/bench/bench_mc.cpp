@@ -8,11 +8,12 @@
 #include <chrono>
 #include <cstdio>
 
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "mc/marching_cubes.h"
 #include "vk/vk_check.h"
 #include "vulkan_backend.h"
+#include "mc/marching_cubes_ref.h"
 
 using namespace mpumesh;
 

@@ -14,7 +14,7 @@
 #include <cstdio>
 #include <random>
 
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "kernels/mpu_eval_vk.h"
 #include "common/simd_level.h"

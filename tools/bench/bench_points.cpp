@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <map>
 
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "points/slice_points.h"
 #include "segment/segmentation.h"

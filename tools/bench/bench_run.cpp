@@ -19,7 +19,7 @@
 #include <string>
 
 #include "cgal_mesh3_peer.h"
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "mc/marching_cubes.h"
 #include "mesh/cgal_geometry.h"

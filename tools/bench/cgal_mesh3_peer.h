@@ -6,7 +6,7 @@
 // manifold() on. Sequential (CGAL's default build).
 #pragma once
 
-#include "mesh/triangle_mesh.h"
+#include "geometry/triangle_mesh.h"
 #include "volume/volume.h"
 
 namespace mpumesh::bench {

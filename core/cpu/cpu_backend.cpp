@@ -1,9 +1,14 @@
-#include "compute/cpu_backend.h"
+#include "cpu/cpu_backend.h"
 
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
 
 #include <chrono>
+
+#include "mc/marching_cubes_ref.h"
+#include "mpu/mpu_eval_ref.h"
+#include "particles/particle_step_ref.h"
+#include "segment/chan_vese_ref.h"
 
 namespace mpumesh {
 
