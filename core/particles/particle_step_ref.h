@@ -1,8 +1,9 @@
 // One iteration of the particle system (DESIGN.md stage 6, Witkin & Heckbert 1994 with
 // the paper's curvature weight) in double precision: the CPU reference of
 // shaders/particle_step_grid_*.comp, particle_step_repulsion.comp, particle_step_project.comp and
-// particle_step_thickness.comp, and the native CPU path. The population (fission, death) is decided between iterations by
-// particle_population.h, on the CPU for both backends.
+// particle_step_thickness.comp, and the native CPU path. The population (fission, death)
+// is decided between batches of iterations by particle_system.cpp, on the CPU for both
+// backends.
 //
 // Per iteration, from positions x_i on f = 0 with repulsion radii σ_i:
 //   1. neighbour grid: cells of cutoff·max σ, particles counting-sorted by cell;
@@ -25,13 +26,9 @@
 //      Hessian of f, not from the blended Hessian that the surface's curvature elsewhere
 //      comes from (mpu_eval_ref.h): the Hessian of f is large where the leaves disagree,
 //      on the thinnest plates and folds, and the weights it gives sample those more
-//      densely. With the blended Hessian the full-resolution CT at the default count
-//      (scripts/bench_large.sh) had a triangle under 15° in 6 of 24 seeds (5.7-14.1°,
-//      at the rims of plates thinner than the sampling), against 1 of 24 (9.5°) with the
-//      Hessian of f; finer thickness searches (8 or 16 steps) mended a part of them, and
-//      re-triangulating the polygon of the repair point at such a needle 1 of 5.
+//      densely (fewer needles at the rims of plates thinner than the sampling).
 // The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
-// particle's target radius instead (particle_population.h), which is the reading that
+// particle's target radius instead (particle_system.h), which is the reading that
 // makes high curvature denser (see DESIGN.md): scaling E_i and Ê alike would change the
 // speed only.
 #pragma once
@@ -67,7 +64,7 @@ struct StepParams {
 struct ParticleState {
   std::vector<Eigen::Vector3d> x;
   std::vector<double> sigma;
-  std::vector<double> target;  // σ̂_i, set between iterations (particle_population.h)
+  std::vector<double> target;  // σ̂_i, set between batches (particle_system.cpp)
   std::vector<Eigen::Vector3d> normal;  // ∇f / |∇f|
   std::vector<double> distance;         // f / |∇f|, mm; NaN where ∇f vanished (lost)
   std::vector<mpu::Curvature> curv;

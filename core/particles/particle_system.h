@@ -34,13 +34,10 @@ class ComputeBackend;
 
 namespace mpumesh::particles {
 
-// Without --particles or --spacing: this many, unless that would make the flat spacing
-// finer than half the input points' sampling gap. On the sample CT's bone (226 HU),
-// asked for 30,000 / 34,000 / 37,000 / 40,000 it gave a smallest angle of 20.0 / 13.6 /
-// 19.4 / 20.0°, 1.21 / 0.72 / 0.69 / 0.52% of the triangles under 30° and a mean radius
-// ratio of 0.916 / 0.929 / 0.931 / 0.933 (targets: 15°, 1%, 0.93): 37,000 meets the
-// targets by a hair (a radius ratio 0.001 over), 40,000 with a margin; at 30,000 the thin
-// plates took 5,131 repair points (1,864 at 40,000).
+// Without --particles or --spacing, and with no voxel size to follow (a point cloud or a
+// mesh): this many, unless that would make the flat spacing finer than half the input
+// points' sampling gap. It is the count at which the sample CT's bone meets the quality
+// targets with a margin (fewer leave its thin plates to the triangulation's repair).
 constexpr int64_t kDefaultParticles = 40000;
 // For a surface from a volume (SampleOptions::voxel_size > 0), the default count instead
 // follows the scan: as many particles as give a mean spacing of this many in-plane
