@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <type_traits>
 
 #include "common/error.h"
 #include "common/memory.h"
