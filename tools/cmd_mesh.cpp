@@ -1,4 +1,5 @@
-// mpumesh mc and quality: the marching-cubes baseline and the quality report.
+// mpumesh mc, quality and filter: the marching-cubes baseline, the quality report, and
+// keeping a closed mesh's wanted structures.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -7,13 +8,16 @@
 #include <iostream>
 
 #include "cli_util.h"
+#include "component_cli.h"
 #include "commands.h"
 #include "common/error.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/volume_io.h"
 #include "mc/marching_cubes.h"
+#include "mesh/component_filter.h"
 #include "mesh/quality.h"
+#include "mesh/topology.h"
 #include "progress.h"
 #include "vulkan_backend.h"
 
@@ -114,6 +118,54 @@ void add_quality_command(CLI::App& app, CommonOptions& common, std::function<voi
       } else if (!common.quiet) {
         std::cout << o->mesh << "\n" << quality_to_text(q);
       }
+    };
+  });
+}
+
+void add_filter_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
+  struct Opts {
+    std::string input, output;
+    ComponentFilter components;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* cmd = app.add_subcommand("filter", "Keep the wanted structures of a closed mesh: the largest, or those "
+                                           "above a volume");
+  cmd->add_option("mesh", o->input, "mesh: .ply, .stl, .obj or .off (closed)")->required();
+  cmd->add_option("-o,--output", o->output, "mesh: .ply, .stl, .obj or .off")->required();
+  add_component_options(cmd, o->components);
+  add_common(cmd, common);
+  cmd->callback([&common, &action, o] {
+    action = [&common, o] {
+      check_writable(o->output);
+      mesh_format_from_path(o->output);
+      if (!o->components.active()) throw InputError("filter: give --largest or --min-volume");
+      Progress progress(common.quiet || common.json);
+      progress.begin("read mesh");
+      const TriangleMesh in = read_mesh(o->input);
+      progress.end();
+      const Topology t = analyze_topology(in);
+      if (!t.closed || t.nonmanifold_edges > 0)
+        throw InputError(fmt::format("{}: the mesh is not a closed manifold ({} border edges, {} non-manifold edges): "
+                                     "its structures enclose no volume",
+                                     o->input, t.border_edges, t.nonmanifold_edges));
+      progress.begin("keep components");
+      const FilteredMesh f = filter_components(in, o->components);
+      progress.end();
+      if (f.mesh.triangles.empty())
+        throw InputError(fmt::format("{}: --min-volume {} mm3 drops every structure; nothing written", o->input,
+                                     o->components.min_volume_mm3));
+      progress.begin("write mesh");
+      write_mesh(f.mesh, o->output);
+      progress.end();
+      nlohmann::json j = components_json(o->components, f.kept, f.dropped);
+      j["input"] = o->input;
+      j["output"] = o->output;
+      j["triangles"] = f.mesh.triangles.size();
+      j["stage_seconds"] = stage_json(progress);
+      if (common.json) std::cout << j.dump(2) << '\n';
+      else if (!common.quiet)
+        std::cout << fmt::format("{}: {} triangles\n", o->output, f.mesh.triangles.size())
+                  << components_text(f.kept, f.dropped);
     };
   });
 }

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cli_util.h"
+#include "component_cli.h"
 #include "commands.h"
 #include "common/error.h"
 #include "common/memory.h"
@@ -31,6 +32,7 @@ struct RunCli {
   BackendOptions backend;
   bool self_intersections = true, partial_volume_caps = false;
   int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
+  ComponentFilter components;
 };
 
 void add_run_options(CLI::App* cmd, RunCli& o) {
@@ -56,6 +58,7 @@ void add_run_options(CLI::App* cmd, RunCli& o) {
                               "is given, 0 when one is",
                               pipeline::kRaise))
       ->check(CLI::Range(0, 8));
+  add_component_options(cmd, o.components);
   add_backend_options(cmd, o.backend);
 }
 
@@ -78,6 +81,7 @@ pipeline::RunOptions checked_options(RunCli& o, const CommonOptions& common) {
   r.fit = o.fit;
   r.sample = o.sample;
   r.count_retries = o.count_retries;
+  r.components = o.components;
   r.quality = !o.report.empty() || common.json || !common.quiet;
   r.quality_options.self_intersections = o.self_intersections;
   r.baselines = !o.html.empty();
@@ -141,6 +145,7 @@ nlohmann::json run_json(const RunCli& o, const pipeline::RunResult& r, const vk:
   j["output"] = o.output;
   j["vertices"] = r.mesh.vertices.size();
   j["triangles"] = r.mesh.triangles.size();
+  if (o.components.active()) j["components_filter"] = components_json(o.components, r.components_kept, r.components_dropped);
   if (r.has_quality) j["quality"] = quality_to_json(r.quality);
   j["notes"] = r.notes;
   j["version"] = MPUMESH_VERSION;
@@ -148,6 +153,7 @@ nlohmann::json run_json(const RunCli& o, const pipeline::RunResult& r, const vk:
 }
 
 void print_summary(const RunCli& o, const pipeline::RunResult& r, const vk::BackendChoice& choice) {
+  if (o.components.active()) std::cout << components_text(r.components_kept, r.components_dropped);
   if (r.has_quality)
     std::cout << o.output << ": " << r.mesh.triangles.size() << " triangles from " << r.particles.size()
               << " particles (" << choice.backend->device() << ")\n"

@@ -17,6 +17,7 @@ struct CommonOptions {
 void add_devices_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_mc_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_quality_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_filter_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_convert_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_segment_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_points_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);

@@ -144,6 +144,25 @@ void add_summary(report::HtmlPage& page, const nlohmann::json& run) {
             "surface's thin plates, so the particles were sampled again{}.",
             count(r, "repair_points"), count(r, "particles"), again)));
       }
+  if (run.is_object() && run.contains("components_filter") && run["components_filter"].is_object()) {
+    const auto& c = run["components_filter"];
+    std::string text = fmt::format("Structures kept: {} (", count(c, "kept"));
+    text += count(c, "largest") > 0 ? fmt::format("the {} largest", count(c, "largest")) : std::string("all");
+    if (c.contains("min_volume_mm3") && c["min_volume_mm3"].is_number() && c["min_volume_mm3"].get<double>() > 0)
+      text += fmt::format(" of at least {:.1f} mm3", c["min_volume_mm3"].get<double>());
+    text += ")";
+    if (c.contains("dropped") && c["dropped"].is_array()) {
+      text += fmt::format("; dropped {}", c["dropped"].size());
+      for (size_t i = 0; i < c["dropped"].size() && i < 5; ++i) {
+        const auto& d = c["dropped"][i];
+        if (d.is_object() && d.contains("volume_mm3") && d["volume_mm3"].is_number())
+          text += fmt::format("{} {:.1f} mm3 ({} triangles)", i == 0 ? ":" : ",", d["volume_mm3"].get<double>(),
+                              count(d, "triangles"));
+      }
+      if (c["dropped"].size() > 5) text += ", ...";
+    }
+    page.paragraph(report::escape_html(text + "."));
+  }
   if (run.is_object() && run.contains("notes") && run["notes"].is_array())
     for (const auto& n : run["notes"])
       if (n.is_string()) page.paragraph("Note: " + report::escape_html(n.get<std::string>()));

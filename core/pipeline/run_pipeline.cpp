@@ -166,6 +166,21 @@ void attach_and_check(Run& run) {
                            " of the triangulation or its normal is not finite; nothing written");
 }
 
+// The components the filter keeps (mesh/component_filter.h); none left is an error.
+void keep_components(Run& run) {
+  RunResult& r = run.r;
+  FilteredMesh f = stage(run.obs, "keep components", [&] { return filter_components(r.mesh, run.opt.components); });
+  if (f.mesh.triangles.empty()) {
+    const double largest = f.dropped.empty() ? 0.0 : f.dropped.front().volume_mm3;
+    throw InputError(fmt::format("{}: --min-volume {} mm3 drops every structure (the largest encloses {:.1f} mm3); "
+                                 "nothing written",
+                                 run.input, run.opt.components.min_volume_mm3, largest));
+  }
+  r.mesh = std::move(f.mesh);
+  r.components_kept = f.kept;
+  r.components_dropped = std::move(f.dropped);
+}
+
 // The note a still too sparse sample gets, with the count that should do better.
 std::string sparse_note(const RunResult& r) {
   const particles::SampleOptions more = denser(r.sample_options, r.sample.asked);
@@ -206,6 +221,7 @@ RunResult run_pipeline(const std::string& input, const RunOptions& options, cons
   r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, run.opt.fit, &r.fit); });
   sample_and_triangulate(run, cloud);
   attach_and_check(run);
+  if (options.components.active()) keep_components(run);
   if (options.quality) {
     r.quality = stage(run.obs, "quality", [&] { return measure_quality(r.mesh, options.quality_options); });
     r.has_quality = true;

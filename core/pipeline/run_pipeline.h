@@ -3,7 +3,8 @@
 // mesh on the fitted MPU surface. Its stages, in order:
 //   read -> segment (volumes) -> points -> fit -> sample and triangulate (sampling again
 //   with more particles while the triangulation shows the sample too sparse) -> surface
-//   attributes -> checks -> quality (optional) -> the report's baselines (optional).
+//   attributes -> checks -> the components kept (optional) -> quality (optional) -> the
+//   report's baselines (optional).
 // Writing the outputs, and turning the result into text, JSON and HTML, are the caller's.
 #pragma once
 
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "compute/compute_backend.h"
+#include "mesh/component_filter.h"
 #include "mesh/quality.h"
 #include "mesh/restricted_delaunay.h"
 #include "geometry/triangle_mesh.h"
@@ -46,6 +48,7 @@ struct RunOptions {
   // points for more than a tenth of them, up to this many times; -1: 2 when neither a
   // count nor a spacing is given, else 0.
   int count_retries = -1;
+  ComponentFilter components;  // the structures to keep (--largest, --min-volume)
   bool quality = true;  // measure the mesh's quality (RunResult::quality)
   QualityOptions quality_options;
   // Keep the report's baselines: marching cubes of the volume (or the input mesh) and the
@@ -95,6 +98,8 @@ struct RunResult {
   std::vector<CountRaise> raises;
   RestrictedDelaunayStats triangulation;
   TriangleMesh mesh;
+  int64_t components_kept = 0;               // when RunOptions::components is active
+  std::vector<DroppedComponent> components_dropped;
   bool has_quality = false;
   Quality quality;
   bool sparse = false;                      // still too sparse after the last sampling

@@ -573,5 +573,53 @@ TEST(Cli, GpuBackendAndDevices) {
   EXPECT_GT(n, 1000);
 }
 
+TEST(Cli, FilterKeepsTheLargestStructureAndRefusesWhatItCannotFilter) {
+  const std::string dir = test::temp_dir("filter");
+  TriangleMesh two = test::icosphere(10.0, 3);
+  const TriangleMesh small = test::icosphere(5.0, 3);
+  const uint32_t base = uint32_t(two.vertices.size());
+  for (const auto& v : small.vertices) two.vertices.push_back(v + Eigen::Vector3d(30, 0, 0));
+  for (const auto& t : small.triangles) two.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  write_mesh(two, dir + "/two.stl");
+  const Result r = run("filter " + dir + "/two.stl -o " + dir + "/one.ply --largest 1 --json");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["kept"], 1);
+  ASSERT_EQ(j["dropped"].size(), 1u);
+  EXPECT_NEAR(j["dropped"][0]["volume_mm3"].get<double>(), 4.0 / 3 * M_PI * 125, 0.03 * 4.0 / 3 * M_PI * 125);
+  EXPECT_NEAR(j["dropped"][0]["centre_mm"][0].get<double>(), 30, 0.5);
+  EXPECT_EQ(read_mesh(dir + "/one.ply").triangles.size(), test::icosphere(10.0, 3).triangles.size());
+  expect_failure("filter " + dir + "/two.stl -o " + dir + "/none.ply", "give --largest or --min-volume",
+                 dir + "/none.ply");
+  expect_failure("filter " + dir + "/two.stl -o " + dir + "/none.ply --min-volume 1e9", "drops every structure",
+                 dir + "/none.ply");
+  TriangleMesh open = test::icosphere(10.0, 2);
+  open.triangles.pop_back();
+  write_mesh(open, dir + "/open.stl");
+  expect_failure("filter " + dir + "/open.stl -o " + dir + "/none.ply --largest 1", "not a closed manifold (3 border",
+                 dir + "/none.ply");
+}
+
+TEST(Cli, RunLargestOneKeepsTheSkullWithoutTheHeadRest) {
+  MPUMESH_SAMPLE_CT_OR_SKIP(ct);
+  const std::string dir = test::temp_dir("run-largest");
+  const Result r = run("run " + ct + " --threshold 226 --largest 1 -o " + dir + "/skull.ply --report " + dir +
+                       "/report.json --no-self-intersections --backend cpu");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto j = nlohmann::json::parse(read_file(dir + "/report.json"));
+  const auto& c = j["components_filter"];
+  EXPECT_EQ(c["kept"], 1);
+  // The head rest: two curved plates beside the skull, each over 10 cm3, dropped first.
+  ASSERT_GE(c["dropped"].size(), 2u);
+  const double skull = j["quality"]["volume_mm3"].get<double>();
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_GT(c["dropped"][k]["volume_mm3"].get<double>(), 10000);
+    EXPECT_LT(c["dropped"][k]["volume_mm3"].get<double>(), skull / 10);
+  }
+  EXPECT_LT(c["dropped"][2]["volume_mm3"].get<double>(), 1000) << "the rest are fragments";
+  EXPECT_NE(r.out.find("kept 1 structure; dropped"), std::string::npos) << r.out;
+  EXPECT_TRUE(j["quality"]["closed"].get<bool>());
+}
+
 }  // namespace
 }  // namespace mpumesh

@@ -1,0 +1,118 @@
+#include "mesh/component_filter.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "mesh/topology.h"
+
+namespace mpumesh {
+namespace {
+
+struct Component {
+  std::vector<uint32_t> triangles;
+  double volume = 0;                  // signed
+  int32_t shell = -1;                 // for a cavity: the enclosing shell
+  std::vector<int32_t> cavities;      // for a shell
+};
+
+// Whether p lies inside the closed component c: the parity of the crossings of a ray from
+// p along a fixed, slightly skew direction (no axis-aligned degeneracies on voxel data).
+bool inside(const TriangleMesh& m, const Component& c, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d dir = Eigen::Vector3d(0.5773, 0.5774, 0.5775).normalized();
+  int crossings = 0;
+  for (uint32_t f : c.triangles) {
+    const auto& t = m.triangles[f];
+    const Eigen::Vector3d a = m.vertices[t[0]], e1 = m.vertices[t[1]] - a, e2 = m.vertices[t[2]] - a;
+    const Eigen::Vector3d h = dir.cross(e2);
+    const double det = e1.dot(h);
+    if (std::abs(det) < 1e-14) continue;
+    const Eigen::Vector3d s = p - a;
+    const double u = s.dot(h) / det;
+    if (u < 0 || u > 1) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = dir.dot(q) / det;
+    if (v < 0 || u + v > 1) continue;
+    if (e2.dot(q) / det > 0) ++crossings;
+  }
+  return crossings % 2 == 1;
+}
+
+std::vector<Component> components_of(const TriangleMesh& m) {
+  int64_t n = 0;
+  const std::vector<int32_t> id = triangle_components(m, &n);
+  std::vector<Component> c(static_cast<size_t>(n));
+  for (uint32_t f = 0; f < m.triangles.size(); ++f) {
+    Component& k = c[size_t(id[f])];
+    k.triangles.push_back(f);
+    const auto& t = m.triangles[f];
+    k.volume += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6.0;
+  }
+  // Each cavity to the smallest shell that holds one of its vertices.
+  for (size_t k = 0; k < c.size(); ++k) {
+    if (c[k].volume >= 0) continue;
+    const Eigen::Vector3d p = m.vertices[m.triangles[c[k].triangles[0]][0]];
+    for (size_t s = 0; s < c.size(); ++s)
+      if (c[s].volume > 0 && inside(m, c[s], p) && (c[k].shell < 0 || c[s].volume < c[size_t(c[k].shell)].volume))
+        c[k].shell = int32_t(s);
+    if (c[k].shell >= 0) c[size_t(c[k].shell)].cavities.push_back(int32_t(k));
+  }
+  return c;
+}
+
+}  // namespace
+
+FilteredMesh filter_components(const TriangleMesh& m, const ComponentFilter& filter) {
+  FilteredMesh out;
+  std::vector<Component> c = components_of(m);
+  // Shells (and cavities no shell holds, kept as they are), largest volume first.
+  std::vector<size_t> shells;
+  for (size_t k = 0; k < c.size(); ++k)
+    if (c[k].volume >= 0 || c[k].shell < 0) shells.push_back(k);
+  auto net = [&](size_t k) {
+    double v = c[k].volume;
+    for (int32_t q : c[k].cavities) v += c[size_t(q)].volume;
+    return v;
+  };
+  std::stable_sort(shells.begin(), shells.end(), [&](size_t a, size_t b) { return net(a) > net(b); });
+  std::vector<char> keep_triangle(m.triangles.size(), 0);
+  for (size_t r = 0; r < shells.size(); ++r) {
+    const size_t k = shells[r];
+    const bool keep = (filter.largest <= 0 || int64_t(r) < filter.largest) && net(k) >= filter.min_volume_mm3;
+    std::vector<int32_t> parts = {int32_t(k)};
+    parts.insert(parts.end(), c[k].cavities.begin(), c[k].cavities.end());
+    if (keep) {
+      ++out.kept;
+      for (int32_t q : parts)
+        for (uint32_t f : c[size_t(q)].triangles) keep_triangle[f] = 1;
+      continue;
+    }
+    DroppedComponent d;
+    d.volume_mm3 = net(k);
+    int64_t corners = 0;
+    for (int32_t q : parts)
+      for (uint32_t f : c[size_t(q)].triangles) {
+        ++d.triangles;
+        for (uint32_t v : m.triangles[f]) d.centre += m.vertices[v], ++corners;
+      }
+    d.centre /= double(std::max<int64_t>(corners, 1));
+    out.dropped.push_back(d);
+  }
+  // The kept triangles and their vertices, in their order, with the attributes.
+  std::vector<uint32_t> index(m.vertices.size(), UINT32_MAX);
+  for (uint32_t f = 0; f < m.triangles.size(); ++f)
+    if (keep_triangle[f])
+      for (uint32_t v : m.triangles[f]) index[v] = 0;
+  const bool normals = m.normals.size() == m.vertices.size(), curvature = m.curvature.size() == m.vertices.size();
+  for (uint32_t v = 0; v < m.vertices.size(); ++v) {
+    if (index[v] == UINT32_MAX) continue;
+    index[v] = uint32_t(out.mesh.vertices.size());
+    out.mesh.vertices.push_back(m.vertices[v]);
+    if (normals) out.mesh.normals.push_back(m.normals[v]);
+    if (curvature) out.mesh.curvature.push_back(m.curvature[v]);
+  }
+  for (uint32_t f = 0; f < m.triangles.size(); ++f)
+    if (keep_triangle[f]) out.mesh.triangles.push_back({index[m.triangles[f][0]], index[m.triangles[f][1]], index[m.triangles[f][2]]});
+  return out;
+}
+
+}  // namespace mpumesh

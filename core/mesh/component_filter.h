@@ -1,0 +1,37 @@
+// Keeping the wanted structures of a closed mesh, as "keep largest island" and a minimum
+// size do in Slicer and InVesalius: the scanner's table or head rest, a loose fragment.
+// A component is a connected set of triangles; its enclosed volume is the signed volume
+// of its triangles (positive for an outward-facing shell, negative for the wall of a
+// cavity). A cavity belongs to the shell that encloses it (the nearest one, by a ray's
+// crossings) and is kept or dropped with it; shells are ranked by their own volume.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/triangle_mesh.h"
+
+namespace mpumesh {
+
+struct ComponentFilter {
+  int64_t largest = 0;        // keep the N shells of largest volume (0: all)
+  double min_volume_mm3 = 0;  // and drop the shells enclosing less than this
+  bool active() const { return largest > 0 || min_volume_mm3 > 0; }
+};
+
+struct DroppedComponent {
+  int64_t triangles = 0;
+  double volume_mm3 = 0;  // the shell's, less its cavities'
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // of its vertices
+};
+
+struct FilteredMesh {
+  TriangleMesh mesh;  // the kept triangles, their vertices (in order) and attributes
+  int64_t kept = 0;   // shells kept
+  std::vector<DroppedComponent> dropped;  // largest first
+};
+
+FilteredMesh filter_components(const TriangleMesh& mesh, const ComponentFilter& filter);
+
+}  // namespace mpumesh

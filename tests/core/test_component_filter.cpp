@@ -1,0 +1,74 @@
+// core/mesh/component_filter: keeping the largest structures of a closed mesh, with their
+// cavities, and dropping small ones.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "mesh/component_filter.h"
+#include "mesh/topology.h"
+#include "test_support.h"
+
+namespace mpumesh {
+namespace {
+
+// Appends `part` moved by `at`, reversed (facing inward: a cavity's wall) when `inward`.
+void add(TriangleMesh& m, TriangleMesh part, const Eigen::Vector3d& at, bool inward = false) {
+  const uint32_t base = uint32_t(m.vertices.size());
+  for (auto& v : part.vertices) m.vertices.push_back(v + at);
+  for (auto t : part.triangles) {
+    if (inward) std::swap(t[1], t[2]);
+    m.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+}
+
+// A 10 mm ball, a hollow ball (8 mm with a 6 mm cavity) and a 5 mm ball, apart.
+TriangleMesh three_structures() {
+  TriangleMesh m;
+  add(m, test::icosphere(10, 3), {0, 0, 0});
+  add(m, test::icosphere(8, 3), {40, 0, 0});
+  add(m, test::icosphere(6, 3), {40, 0, 0}, true);
+  add(m, test::icosphere(5, 3), {0, 40, 0});
+  m.normals.assign(m.vertices.size(), Eigen::Vector3f(0, 0, 1));
+  return m;
+}
+
+TEST(ComponentFilter, KeepsTheLargestWithTheirCavities) {
+  const TriangleMesh m = three_structures();
+  const double hollow = 4.0 / 3 * M_PI * (512 - 216), small = 4.0 / 3 * M_PI * 125;
+  ComponentFilter f;
+  f.largest = 1;
+  FilteredMesh one = filter_components(m, f);
+  EXPECT_EQ(one.kept, 1);
+  EXPECT_EQ(analyze_topology(one.mesh).components, 1);
+  EXPECT_EQ(one.mesh.normals.size(), one.mesh.vertices.size()) << "the attributes follow the kept vertices";
+  for (const auto& v : one.mesh.vertices) EXPECT_NEAR(v.norm(), 10, 0.01);
+  ASSERT_EQ(one.dropped.size(), 2u);
+  EXPECT_NEAR(one.dropped[0].volume_mm3, hollow, 0.03 * hollow) << "the hollow ball, its cavity subtracted";
+  EXPECT_NEAR(one.dropped[1].volume_mm3, small, 0.03 * small);
+  EXPECT_NEAR(one.dropped[0].centre.x(), 40, 0.5);
+
+  f.largest = 2;
+  FilteredMesh two = filter_components(m, f);
+  EXPECT_EQ(two.kept, 2);
+  EXPECT_EQ(analyze_topology(two.mesh).components, 3) << "the hollow ball keeps its cavity";
+  EXPECT_EQ(two.dropped.size(), 1u);
+
+  ComponentFilter by_volume;
+  by_volume.min_volume_mm3 = 0.5 * (small + hollow);
+  FilteredMesh v = filter_components(m, by_volume);
+  EXPECT_EQ(v.kept, 2);
+  ASSERT_EQ(v.dropped.size(), 1u);
+  EXPECT_NEAR(v.dropped[0].centre.y(), 40, 0.5) << "the small ball is dropped";
+}
+
+TEST(ComponentFilter, DropsEverythingBelowTheVolumeAsked) {
+  ComponentFilter f;
+  f.min_volume_mm3 = 1e6;
+  const FilteredMesh r = filter_components(three_structures(), f);
+  EXPECT_EQ(r.kept, 0);
+  EXPECT_TRUE(r.mesh.triangles.empty());
+  EXPECT_EQ(r.dropped.size(), 3u);
+}
+
+}  // namespace
+}  // namespace mpumesh

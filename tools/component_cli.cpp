@@ -1,0 +1,35 @@
+#include "component_cli.h"
+
+#include <fmt/format.h>
+
+namespace mpumesh::tools {
+
+void add_component_options(CLI::App* cmd, ComponentFilter& f) {
+  cmd->add_option("--largest", f.largest,
+                  "keep the N structures of largest enclosed volume (each with its cavities), e.g. 1 for the skull "
+                  "without the scanner's head rest")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--min-volume", f.min_volume_mm3, "drop the structures that enclose less than this (mm3)")
+      ->check(CLI::NonNegativeNumber);
+}
+
+nlohmann::json components_json(const ComponentFilter& f, int64_t kept, const std::vector<DroppedComponent>& dropped) {
+  nlohmann::json d = nlohmann::json::array();
+  for (const DroppedComponent& c : dropped)
+    d.push_back({{"triangles", c.triangles},
+                 {"volume_mm3", c.volume_mm3},
+                 {"centre_mm", {c.centre.x(), c.centre.y(), c.centre.z()}}});
+  return {{"largest", f.largest}, {"min_volume_mm3", f.min_volume_mm3}, {"kept", kept}, {"dropped", d}};
+}
+
+std::string components_text(int64_t kept, const std::vector<DroppedComponent>& dropped) {
+  std::string s = fmt::format("kept {} structure{}; dropped {}\n", kept, kept == 1 ? "" : "s", dropped.size());
+  for (size_t i = 0; i < dropped.size() && i < 10; ++i)
+    s += fmt::format("  dropped: {} triangles enclosing {:.1f} mm3 around ({:.1f}, {:.1f}, {:.1f}) mm\n",
+                     dropped[i].triangles, dropped[i].volume_mm3, dropped[i].centre.x(), dropped[i].centre.y(),
+                     dropped[i].centre.z());
+  if (dropped.size() > 10) s += fmt::format("  and {} smaller\n", dropped.size() - 10);
+  return s;
+}
+
+}  // namespace mpumesh::tools
