@@ -42,8 +42,11 @@ int text_width(const std::string& text, int scale) {
 }
 
 int draw_text(Image& img, int x, int y, const std::string& text, const uint8_t rgb[3], int scale) {
-  // stb_easy_font emits axis-aligned quads, 4 vertices of 16 bytes (x, y, z, colour).
-  std::vector<char> buf(text.size() * 300 + 64);
+  // stb_easy_font emits axis-aligned quads, 4 vertices of 16 bytes (x, y, z, colour), and
+  // stops when the buffer is full: room for 16 quads a character (its glyphs take up to
+  // 7; at about 300 bytes a character the last glyph of a short label lost its strokes,
+  // a "0" drawn as a "C").
+  std::vector<char> buf((text.size() + 1) * 16 * 64);
   const int quads = stb_easy_font_print(0, 0, const_cast<char*>(text.c_str()), nullptr, buf.data(), int(buf.size()));
   for (int q = 0; q < quads; ++q) {
     const float* v0 = reinterpret_cast<const float*>(buf.data() + size_t(q) * 64);

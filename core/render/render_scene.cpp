@@ -17,6 +17,26 @@ constexpr int kMargin = 16;
 constexpr int kLegendWidth = 150;
 constexpr int kTextScale = 2;
 constexpr int kLineHeight = 20;
+// The colour bar: its left edge this far inside the legend strip, its width, and the gap
+// from its ticks to their labels.
+constexpr int kBarInset = 16, kBarWidth = 22, kLabelGap = 10;
+
+// The colour bar's five tick labels, bottom to top.
+std::vector<std::string> tick_labels(const Legend& lg) {
+  std::vector<std::string> out;
+  for (int i = 0; i <= 4; ++i) {
+    const double v = lg.lo + i / 4.0 * (lg.hi - lg.lo);
+    out.push_back(fmt::format("{:.3g}", std::abs(v) < 1e-12 ? 0.0 : v));
+  }
+  return out;
+}
+
+// The legend strip: kLegendWidth, or wider when a label needs it (with a margin after it).
+int legend_width(const Legend& lg) {
+  int widest = 0;
+  for (const std::string& t : tick_labels(lg)) widest = std::max(widest, text_width(t, kTextScale));
+  return std::max(kLegendWidth, kBarInset + kBarWidth + kLabelGap + widest + kMargin);
+}
 
 std::vector<double> split_numbers(const std::string& s, char sep, const std::string& what) {
   std::vector<double> out;
@@ -185,7 +205,8 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
   const int W = opt.width, H = opt.height;
   const int lines = int(!opt.title.empty()) + int(lg.shown);
   const int top = lines * kLineHeight + (lines ? 8 : 0);
-  const int right = lg.shown ? kLegendWidth : 0;
+  if (lg.shown) lg.width = legend_width(lg);
+  const int right = lg.shown ? lg.width : 0;
   const double avail_w = std::max(W - right - 2 * kMargin, 8), avail_h = std::max(H - top - 2 * kMargin, 8);
   const double k = std::min(avail_w / std::max(amax - amin, 1e-9), avail_h / std::max(bmax - bmin, 1e-9));
   const double cx = kMargin + avail_w / 2, cy = top + kMargin + avail_h / 2;
@@ -222,13 +243,13 @@ void draw_legend(Image& img, const RenderScene& sc) {
   // A zoomed surface runs under the margins: clear them first.
   const int lines = int(!sc.title.empty()) + int(sc.legend.shown);
   if (lines) fill_rect(img, 0, 0, img.width, lines * kLineHeight + 8, paper);
-  if (sc.legend.shown) fill_rect(img, img.width - kLegendWidth, 0, img.width, img.height, paper);
+  if (sc.legend.shown) fill_rect(img, img.width - sc.legend.width, 0, img.width, img.height, paper);
   int y = 8;
   if (!sc.title.empty()) draw_text(img, kMargin, y, sc.title, ink, kTextScale), y += kLineHeight;
   const Legend& lg = sc.legend;
   if (!lg.shown) return;
   draw_text(img, kMargin, y, lg.title, ink, kTextScale);
-  const int x0 = img.width - kLegendWidth + 16, x1 = x0 + 22;
+  const int x0 = img.width - lg.width + kBarInset, x1 = x0 + kBarWidth;
   const int y0 = y + kLineHeight + 16, y1 = img.height - kMargin - 8;
   if (y1 - y0 < 20) return;
   fill_rect(img, x0 - 1, y0 - 1, x1 + 1, y1 + 1, ink);
@@ -240,12 +261,12 @@ void draw_legend(Image& img, const RenderScene& sc) {
                             uint8_t(std::lround(std::clamp(c.z(), 0.f, 1.f) * 255))};
     fill_rect(img, x0, yy, x1, yy + 1, rgb);
   }
+  const std::vector<std::string> labels = tick_labels(lg);
   for (int i = 0; i <= 4; ++i) {
     const double t = i / 4.0;
     const int yy = y1 - 1 - int(std::lround(t * (y1 - 1 - y0)));
     fill_rect(img, x1, yy, x1 + 6, yy + 1, ink);
-    const double v = lg.lo + t * (lg.hi - lg.lo);
-    draw_text(img, x1 + 10, yy - 6, fmt::format("{:.3g}", std::abs(v) < 1e-12 ? 0.0 : v), ink, kTextScale);
+    draw_text(img, x1 + kLabelGap, yy - 6, labels[size_t(i)], ink, kTextScale);
   }
 }
 

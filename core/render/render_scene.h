@@ -46,6 +46,7 @@ struct Legend {
   std::string title;  // e.g. "Gaussian curvature K (1/mm^2), from the MPU surface"
   double lo = 0, hi = 1;
   int colormap = RENDER_CMAP_NONE;
+  int width = 0;  // pixels at the right for the bar and its labels (wide enough for the widest)
 };
 
 struct RenderScene {

@@ -145,7 +145,7 @@ TEST(Render, ZoomFramesTheBallAndColourBarIsDrawn) {
   EXPECT_EQ(scene.legend.hi, 60);
   // The colour bar: viridis from dark purple (bottom) to yellow (top), in the right margin.
   int top = -1, bottom = -1;
-  const int x = img.width - 150 + 16 + 11;
+  const int x = img.width - scene.legend.width + 16 + 11;
   for (int y = 0; y < img.height; ++y)
     if (!is_white(img.at(x, y))) (top < 0 ? top : bottom) = y, bottom = y;
   ASSERT_GT(bottom - top, 150);
@@ -156,6 +156,40 @@ TEST(Render, ZoomFramesTheBallAndColourBarIsDrawn) {
   EXPECT_LT(hi[2], 100);
   EXPECT_LT(lo[1], 40);  // purple
   EXPECT_GT(lo[2], 60);
+}
+
+TEST(Render, TextDrawsEveryStrokeOfItsLastCharacter) {
+  // Each character alone and followed by spaces (which add no strokes): the same pixels.
+  for (const char c : std::string("0123456789.-+eE^KmM()")) {
+    Image alone(40, 40), padded(40, 40);
+    const uint8_t ink[3] = {0, 0, 0};
+    render::draw_text(alone, 4, 4, std::string(1, c), ink, 2);
+    render::draw_text(padded, 4, 4, std::string(1, c) + "        ", ink, 2);
+    EXPECT_EQ(alone.rgba, padded.rgba) << "'" << c << "' drawn alone lost strokes";
+  }
+}
+
+TEST(Render, ColourBarLabelsFitInsideThePicture) {
+  // Labels as wide as a curvature range gives ("-0.0629"): the strip widens for them, and
+  // no label touches the picture's right edge.
+  const TriangleMesh mesh = sphere_mesh();
+  CpuBackend cpu;
+  for (const auto& [lo, hi] : {std::pair{-0.0629, 0.0629}, std::pair{0.0, 60.0}, std::pair{-123456.0, 0.00123}}) {
+    render::RenderOptions ro;
+    ro.width = 400, ro.height = 300;
+    ro.color = ColorBy::kCurvature;
+    ro.range = std::make_pair(lo, hi);
+    const render::RenderScene scene = render::build_scene(mesh, ro);
+    ASSERT_TRUE(scene.legend.shown);
+    EXPECT_GE(scene.legend.width, 150);
+    const Image img = vk::render_image(cpu, scene);
+    int rightmost = -1;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = img.width - scene.legend.width; x < img.width; ++x)
+        if (!is_white(img.at(x, y))) rightmost = std::max(rightmost, x);
+    EXPECT_GT(rightmost, img.width - scene.legend.width + 40) << "the labels are drawn";
+    EXPECT_LT(rightmost, img.width - 8) << "a label runs into the picture's edge, range " << lo << ":" << hi;
+  }
 }
 
 TEST(Render, CurvatureColoursFollowTheSign) {
