@@ -1,5 +1,5 @@
 #!/bin/bash
-# Packs a Release build for a lent GPU machine (see scripts/device/measure.sh): the
+# Packs a Release build for a GPU machine (see scripts/device/measure.sh): the
 # programs, the shared libraries they load that are not part of glibc, the Vulkan
 # validation layer and the sample CT, into .device/ (ignored by git) for the device tool
 # to carry. The SPIR-V is compiled into the programs, so nothing else is needed.

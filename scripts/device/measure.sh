@@ -1,5 +1,5 @@
 #!/bin/bash
-# Runs on a lent GPU machine (device tool), from the repository root, with .device/ and
+# Runs on a GPU machine, from the repository root, with .device/ and
 # .gl/ carried (scripts/device/bundle.sh makes .device/bundle.tar.xz). It checks the
 # shaders on the real driver (test_host with the validation layer on), then measures the
 # MPU evaluation throughput and the whole run against the peers, writing logs to $OUT.

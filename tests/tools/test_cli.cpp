@@ -204,7 +204,7 @@ TEST(Cli, ReportReadsTheRunReportsSpacingFigures) {
 // - 0.2 mm: a lost sheet's point 1e-10 mm from its particle, which lay where ∇f nearly
 //   vanishes, on no sheet (two 0° triangles); now such a particle gets none
 //   (opposite_sheet).
-// No angle is under the 15° that issue 5 asks for.
+// No angle is under the 15° that the quality targets ask for.
 TEST(Cli, RepairMakesNoNeedlesOnTheSampleCt) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);
   const std::string dir = test::temp_dir("needles-ct");

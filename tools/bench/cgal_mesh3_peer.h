@@ -1,4 +1,4 @@
-// The benchmark's strongest peer: CGAL Mesh_3 on the gray image, as issue 5 specifies it:
+// The benchmark's strongest peer: CGAL Mesh_3 on the gray image, as the time target names it:
 // CGAL's gray-image domain (trilinear interpolation, inside above iso) on the volume
 // padded by one voxel of background, started by CGAL's initialisation for images (a
 // seed in every connected component of the thresholded image; with CGAL's random start
