@@ -31,6 +31,15 @@ std::vector<std::string> tick_labels(const Legend& lg) {
   return out;
 }
 
+// A line of text in at most `width` pixels: at kTextScale, else at half that, else cut
+// short with "..." at half.
+std::pair<std::string, int> fitted(const std::string& text, int width) {
+  if (text_width(text, kTextScale) <= width) return {text, kTextScale};
+  std::string t = text;
+  while (!t.empty() && text_width(t == text ? t : t + "...", 1) > width) t.pop_back();
+  return {t == text ? t : t + "...", 1};
+}
+
 // The legend strip: kLegendWidth, or wider when a label needs it (with a margin after it).
 int legend_width(const Legend& lg) {
   int widest = 0;
@@ -245,10 +254,17 @@ void draw_legend(Image& img, const RenderScene& sc) {
   if (lines) fill_rect(img, 0, 0, img.width, lines * kLineHeight + 8, paper);
   if (sc.legend.shown) fill_rect(img, img.width - sc.legend.width, 0, img.width, img.height, paper);
   int y = 8;
-  if (!sc.title.empty()) draw_text(img, kMargin, y, sc.title, ink, kTextScale), y += kLineHeight;
+  const int line_width = img.width - 2 * kMargin;
+  if (!sc.title.empty()) {
+    const auto [text, scale] = fitted(sc.title, line_width);
+    draw_text(img, kMargin, y, text, ink, scale), y += kLineHeight;
+  }
   const Legend& lg = sc.legend;
   if (!lg.shown) return;
-  draw_text(img, kMargin, y, lg.title, ink, kTextScale);
+  {
+    const auto [text, scale] = fitted(lg.title, line_width);
+    draw_text(img, kMargin, y, text, ink, scale);
+  }
   const int x0 = img.width - lg.width + kBarInset, x1 = x0 + kBarWidth;
   const int y0 = y + kLineHeight + 16, y1 = img.height - kMargin - 8;
   if (y1 - y0 < 20) return;

@@ -174,9 +174,10 @@ TEST(Render, ColourBarLabelsFitInsideThePicture) {
   // no label touches the picture's right edge.
   const TriangleMesh mesh = sphere_mesh();
   CpuBackend cpu;
+  for (const auto& [w, h] : {std::pair{240, 180}, std::pair{400, 300}, std::pair{1024, 768}})
   for (const auto& [lo, hi] : {std::pair{-0.0629, 0.0629}, std::pair{0.0, 60.0}, std::pair{-123456.0, 0.00123}}) {
     render::RenderOptions ro;
-    ro.width = 400, ro.height = 300;
+    ro.width = w, ro.height = h;
     ro.color = ColorBy::kCurvature;
     ro.range = std::make_pair(lo, hi);
     const render::RenderScene scene = render::build_scene(mesh, ro);
@@ -188,7 +189,8 @@ TEST(Render, ColourBarLabelsFitInsideThePicture) {
       for (int x = img.width - scene.legend.width; x < img.width; ++x)
         if (!is_white(img.at(x, y))) rightmost = std::max(rightmost, x);
     EXPECT_GT(rightmost, img.width - scene.legend.width + 40) << "the labels are drawn";
-    EXPECT_LT(rightmost, img.width - 8) << "a label runs into the picture's edge, range " << lo << ":" << hi;
+    EXPECT_LT(rightmost, img.width - 8) << "a label runs into the picture's edge, range " << lo << ":" << hi << ", "
+                                         << w << " x " << h;
   }
 }
 
