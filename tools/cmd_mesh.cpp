@@ -143,11 +143,7 @@ void add_filter_command(CLI::App& app, CommonOptions& common, std::function<void
       progress.begin("read mesh");
       const TriangleMesh in = read_mesh(o->input);
       progress.end();
-      const Topology t = analyze_topology(in);
-      if (!t.closed || t.nonmanifold_edges > 0)
-        throw InputError(fmt::format("{}: the mesh is not a closed manifold ({} border edges, {} non-manifold edges): "
-                                     "its structures enclose no volume",
-                                     o->input, t.border_edges, t.nonmanifold_edges));
+      require_closed_manifold(in, o->input, "the mesh", "its structures enclose no volume");
       progress.begin("keep components");
       const FilteredMesh f = filter_components(in, o->components);
       progress.end();

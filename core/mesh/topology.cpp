@@ -1,7 +1,11 @@
 #include "mesh/topology.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <numeric>
+
+#include "common/error.h"
 
 namespace mpumesh {
 namespace {
@@ -98,6 +102,14 @@ Topology analyze_topology(const TriangleMesh& mesh) {
   t.oriented = t.manifold && t.misoriented_edges == 0;
   if (t.manifold && t.oriented) t.genus = (2 * t.components - t.euler) / 2;
   return t;
+}
+
+void require_closed_manifold(const TriangleMesh& mesh, const std::string& path, const std::string& noun,
+                             const std::string& why) {
+  const Topology t = analyze_topology(mesh);
+  if (!t.closed || t.nonmanifold_edges > 0)
+    throw InputError(fmt::format("{}: {} is not a closed manifold ({} border edges, {} non-manifold edges); {}", path,
+                                 noun, t.border_edges, t.nonmanifold_edges, why));
 }
 
 }  // namespace mpumesh

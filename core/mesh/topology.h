@@ -30,6 +30,11 @@ struct Topology {
 
 Topology analyze_topology(const TriangleMesh& mesh);
 
+// Throws InputError unless `mesh` is a closed manifold: "PATH: NOUN is not a closed
+// manifold (B border edges, N non-manifold edges); WHY".
+void require_closed_manifold(const TriangleMesh& mesh, const std::string& path, const std::string& noun,
+                             const std::string& why);
+
 // Connected component id of every triangle (0-based, in order of first triangle).
 std::vector<int32_t> triangle_components(const TriangleMesh& mesh, int64_t* count);
 

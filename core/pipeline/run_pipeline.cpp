@@ -66,11 +66,7 @@ particles::SampleOptions denser(particles::SampleOptions x, int64_t asked) {
 // A closed manifold mesh to its points (the vertices, with area-weighted normals).
 PointCloud points_from_mesh(Run& run) {
   const TriangleMesh in = stage(run.obs, "read mesh", [&] { return read_mesh(run.input); });
-  const Topology topo = analyze_topology(in);
-  if (!topo.closed || topo.nonmanifold_edges > 0)
-    throw InputError(fmt::format("{}: the input mesh is not a closed manifold ({} border edges, {} non-manifold "
-                                 "edges); remeshing needs a closed surface",
-                                 run.input, topo.border_edges, topo.nonmanifold_edges));
+  require_closed_manifold(in, run.input, "the input mesh", "remeshing needs a closed surface");
   PointCloud cloud = stage(run.obs, "points", [&] { return pts::mesh_points(in); });
   if (cloud.size() == 0) throw InputError(run.input + ": the mesh has no triangle with an area");
   run.r.input.mesh = true;
