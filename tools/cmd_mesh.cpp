@@ -147,9 +147,7 @@ void add_filter_command(CLI::App& app, CommonOptions& common, std::function<void
       progress.begin("keep components");
       const FilteredMesh f = filter_components(in, o->components);
       progress.end();
-      if (f.mesh.triangles.empty())
-        throw InputError(fmt::format("{}: --min-volume {} mm3 drops every structure; nothing written", o->input,
-                                     o->components.min_volume_mm3));
+      require_kept(f, o->components, o->input);
       progress.begin("write mesh");
       write_mesh(f.mesh, o->output);
       progress.end();

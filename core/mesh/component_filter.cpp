@@ -1,8 +1,11 @@
 #include "mesh/component_filter.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <numeric>
 
+#include "common/error.h"
 #include "mesh/topology.h"
 
 namespace mpumesh {
@@ -113,6 +116,14 @@ FilteredMesh filter_components(const TriangleMesh& m, const ComponentFilter& fil
   for (uint32_t f = 0; f < m.triangles.size(); ++f)
     if (keep_triangle[f]) out.mesh.triangles.push_back({index[m.triangles[f][0]], index[m.triangles[f][1]], index[m.triangles[f][2]]});
   return out;
+}
+
+void require_kept(const FilteredMesh& f, const ComponentFilter& filter, const std::string& path) {
+  if (!f.mesh.triangles.empty()) return;
+  const double largest = f.dropped.empty() ? 0.0 : f.dropped.front().volume_mm3;
+  throw InputError(fmt::format("{}: --min-volume {} mm3 drops every structure (the largest encloses {:.1f} mm3); "
+                               "nothing written",
+                               path, filter.min_volume_mm3, largest));
 }
 
 }  // namespace mpumesh

@@ -8,6 +8,7 @@
 
 #include <Eigen/Dense>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "geometry/triangle_mesh.h"
@@ -33,5 +34,9 @@ struct FilteredMesh {
 };
 
 FilteredMesh filter_components(const TriangleMesh& mesh, const ComponentFilter& filter);
+
+// Throws InputError naming `path` when the filter kept nothing (only --min-volume can drop
+// every structure); says how much the largest encloses.
+void require_kept(const FilteredMesh& f, const ComponentFilter& filter, const std::string& path);
 
 }  // namespace mpumesh

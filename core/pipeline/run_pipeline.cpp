@@ -166,12 +166,7 @@ void attach_and_check(Run& run) {
 void keep_components(Run& run) {
   RunResult& r = run.r;
   FilteredMesh f = stage(run.obs, "keep components", [&] { return filter_components(r.mesh, run.opt.components); });
-  if (f.mesh.triangles.empty()) {
-    const double largest = f.dropped.empty() ? 0.0 : f.dropped.front().volume_mm3;
-    throw InputError(fmt::format("{}: --min-volume {} mm3 drops every structure (the largest encloses {:.1f} mm3); "
-                                 "nothing written",
-                                 run.input, run.opt.components.min_volume_mm3, largest));
-  }
+  require_kept(f, run.opt.components, run.input);
   r.mesh = std::move(f.mesh);
   r.components_kept = f.kept;
   r.components_dropped = std::move(f.dropped);

@@ -3,6 +3,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 
@@ -136,14 +137,19 @@ std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) {
   };
   // The field's 3 x 3 in-plane mean at padded slice pk (the field is the intensity
   // relative to the threshold; the mean cuts the noise by three).
-  auto box_mean = [&](int64_t pk, int64_t i, int64_t j) {
-    double sum = 0;
+  // The in-plane pixel indices (a + px b) of the 3 x 3 box at (i, j), cut at the border.
+  auto box = [&](int64_t i, int64_t j) {
+    std::array<int64_t, 9> ids{};
+    size_t n_ids = 0;
     for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, py - 1); ++b)
-      for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a)
-        sum += field[a + px * (b + py * pk)];
-    const int64_t count = (std::min(j + 1, py - 1) - std::max<int64_t>(j - 1, 0) + 1) *
-                          (std::min(i + 1, px - 1) - std::max<int64_t>(i - 1, 0) + 1);
-    return sum / double(count);
+      for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a) ids[n_ids++] = a + px * b;
+    return std::make_pair(ids, n_ids);
+  };
+  auto box_mean = [&](int64_t pk, int64_t i, int64_t j) {
+    const auto [ids, n_ids] = box(i, j);
+    double sum = 0;
+    for (size_t k = 0; k < n_ids; ++k) sum += field[ids[k] + n * pk];
+    return sum / double(n_ids);
   };
   auto real_slice = [&](int64_t pk) { return pk >= 1 && pk <= nz; };
   // The height from the partial volume, in slices from `from`'s plane toward `to`'s:
@@ -161,9 +167,9 @@ std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) {
   auto partial_volume_rise = [&](const SliceMaps& from, const SliceMaps& to, int64_t i, int64_t j) {
     const int64_t step = to.pk - from.pk, behind = from.pk - step, beyond = to.pk + step;
     if (!real_slice(behind) || !real_slice(behind - step) || !real_slice(beyond)) return -1.0;
-    for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, py - 1); ++b)
-      for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a)
-        if (!from.mask[size_t(a + px * b)] || to.mask[size_t(a + px * b)]) return -1.0;
+    const auto [ids, n_ids] = box(i, j);
+    for (size_t k = 0; k < n_ids; ++k)
+      if (!from.mask[size_t(ids[k])] || to.mask[size_t(ids[k])]) return -1.0;
     const double g_from = box_mean(from.pk, i, j), g_to = box_mean(to.pk, i, j);
     const double g_in = box_mean(behind, i, j), g_out = box_mean(beyond, i, j);
     const double contrast = g_in - g_out, slack = kLevelSlack * contrast;
