@@ -92,6 +92,34 @@ std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const Triangle
   return pairs;
 }
 
+std::vector<std::pair<uint32_t, uint32_t>> crossing_pairs(const TriangleMesh& a, const TriangleMesh& b) {
+  using Box = CGAL::Box_intersection_d::Box_with_handle_d<double, 3, size_t, CGAL::Box_intersection_d::ID_EXPLICIT>;
+  auto triangles = [](const TriangleMesh& m) {
+    std::vector<Triangle> t;
+    t.reserve(m.triangles.size());
+    for (const auto& f : m.triangles)
+      t.emplace_back(to_cgal(m.vertices[f[0]]), to_cgal(m.vertices[f[1]]), to_cgal(m.vertices[f[2]]));
+    return t;
+  };
+  const std::vector<Triangle> ta = triangles(a), tb = triangles(b);
+  auto boxes = [](const std::vector<Triangle>& t) {
+    std::vector<Box> out;
+    out.reserve(t.size());
+    for (size_t i = 0; i < t.size(); ++i)
+      if (!t[i].is_degenerate()) out.emplace_back(t[i].bbox(), i);
+    return out;
+  };
+  std::vector<Box> ba = boxes(ta), bb = boxes(tb);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  CGAL::box_intersection_d(ba.begin(), ba.end(), bb.begin(), bb.end(), [&](const Box& x, const Box& y) {
+    if (CGAL::do_intersect(ta[x.handle()], tb[y.handle()])) pairs.emplace_back(uint32_t(x.handle()), uint32_t(y.handle()));
+  });
+  std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+int64_t count_crossings(const TriangleMesh& a, const TriangleMesh& b) { return int64_t(crossing_pairs(a, b).size()); }
+
 int64_t count_self_intersections(const TriangleMesh& mesh) {
   return int64_t(intersecting_triangles(mesh, nullptr).size());
 }
@@ -148,6 +176,22 @@ DistanceSamples sample_distances(const TriangleMesh& from, const TriangleMesh& t
   for (size_t v = 0; v < from.vertices.size(); ++v)
     if (vw[v] > 0) add(from.vertices[v], vw[v]);
   return s;
+}
+
+std::vector<ClosestOnMesh> closest_and_inside(const std::vector<Eigen::Vector3d>& points, const TriangleMesh& to) {
+  const std::vector<Triangle> tris = cgal_triangles(to);
+  Tree tree(tris.cbegin(), tris.cend());
+  tree.accelerate_distance_queries();
+  // A fixed, slightly skew direction: no axis-aligned degeneracies on voxel data.
+  const K::Vector_3 dir(0.5773, 0.5774, 0.5775);
+  std::vector<ClosestOnMesh> out(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Point p = to_cgal(points[i]);
+    const Point c = tree.closest_point(p);
+    out[i].point = Eigen::Vector3d(c.x(), c.y(), c.z());
+    out[i].inside = tree.number_of_intersected_primitives(K::Ray_3(p, dir)) % 2 == 1;
+  }
+  return out;
 }
 
 }  // namespace mpumesh

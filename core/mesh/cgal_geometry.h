@@ -1,5 +1,5 @@
-// The two mesh measurements that need CGAL (kept in one file for compile time):
-// self-intersecting triangle pairs and distances from one surface to another.
+// The mesh measurements that need CGAL (kept in one file for compile time): intersecting
+// triangle pairs within a mesh or between two, and distances from one surface to another.
 #pragma once
 
 #include <cstdint>
@@ -17,6 +17,19 @@ int64_t count_self_intersections(const TriangleMesh& mesh);
 // triangle is listed.
 std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const TriangleMesh& mesh,
                                                                  const std::vector<uint32_t>* among = nullptr);
+
+// Pairs (triangle of `a`, triangle of `b`) that meet, sorted: two meshes that should not
+// touch, such as two labels' surfaces.
+std::vector<std::pair<uint32_t, uint32_t>> crossing_pairs(const TriangleMesh& a, const TriangleMesh& b);
+int64_t count_crossings(const TriangleMesh& a, const TriangleMesh& b);
+
+// Each point's closest point on the closed mesh `to`, and whether the point lies inside
+// it (the parity of a ray's crossings).
+struct ClosestOnMesh {
+  Eigen::Vector3d point;
+  bool inside = false;
+};
+std::vector<ClosestOnMesh> closest_and_inside(const std::vector<Eigen::Vector3d>& points, const TriangleMesh& to);
 
 // Distance (mm) from sample points of `from` to the surface `to`, with each sample's
 // area weight: per triangle its three vertices' area share and three interior points.

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <type_traits>
 
 #include "common/error.h"
@@ -16,6 +17,7 @@
 #include "mesh/topology.h"
 #include "mpu/polygonize.h"
 #include "points/mesh_points.h"
+#include "segment/label_map.h"
 
 namespace mpumesh::pipeline {
 namespace {
@@ -77,15 +79,27 @@ PointCloud points_from_mesh(Run& run) {
   return cloud;
 }
 
+// A label's indicator is segmented at 0.5, and its caps stop short of other labels
+// (seg/label_map.h).
+void use_label(RunOptions& opt) {
+  opt.segment.method = seg::Method::kThreshold;
+  opt.segment.threshold = mc::ThresholdRange{0.5};
+  opt.points.caps_to_field_crossing = true;
+}
+
 // A volume to its slice points; the fit's tolerance and the default count follow the scan.
-PointCloud points_from_volume(Run& run) {
-  const Volume vol = stage(run.obs, "read volume", [&] { return read_volume(run.input); });
+PointCloud points_from_volume(Run& run, const Volume& scan) {
   run.backend = &run.open();
+  std::optional<Volume> indicator;
+  if (run.opt.label > 0) indicator = stage(run.obs, "label", [&] { return seg::label_indicator(scan, run.opt.label); });
+  const Volume& vol = indicator ? *indicator : scan;
   const seg::Segmentation s =
       stage(run.obs, "segment", [&] { return seg::segment(vol, run.opt.segment, *run.backend); });
   pts::SlicePoints p = stage(run.obs, "points", [&] { return pts::extract_points(s, vol, run.opt.points); });
   if (p.cloud.size() == 0)
-    throw InputError(run.input + ": the segmentation holds no surface (nothing inside the threshold range?)");
+    throw InputError(run.input + (run.opt.label > 0 ? ": the label holds no surface"
+                                                    : ": the segmentation holds no surface (nothing inside the "
+                                                      "threshold range?)"));
   run.opt.sample.voxel_size = vol.in_plane_spacing();  // the default count follows it
   if (!(run.opt.fit.eps > 0)) {  // no eps given: the tolerance follows the scan (mpu/fit_tolerance.h)
     run.r.tolerance = mpu::volume_tolerance(p.cloud, vol.in_plane_spacing());
@@ -185,26 +199,21 @@ std::string sparse_note(const RunResult& r) {
       100.0 * double(r.triangulation.repair_points) / double(r.particles.size()), kRaise, option);
 }
 
-}  // namespace
-
-bool is_mesh_path(const std::string& path) {
-  const std::string ext = lower_case(std::filesystem::path(path).extension().string());
-  return ext == ".stl" || ext == ".ply" || ext == ".obj" || ext == ".off";
+int64_t asked_particles(const RunOptions& options) {
+  return options.sample.particles > 0 ? options.sample.particles : particles::kDefaultParticles;
 }
 
-RunResult run_pipeline(const std::string& input, const RunOptions& options, const BackendOpener& open_backend,
-                       Observer* observer) {
-  Observer quiet;
+// Every stage after reading; `scan` is null for a mesh input, read from `input`.
+RunResult run_stages(const std::string& input, const Volume* scan, const RunOptions& options,
+                     const BackendOpener& open_backend, Observer& obs) {
   RunResult r;
-  Run run{input, options, open_backend, observer ? *observer : quiet, r};
-  r.input.path = input;
-  r.segment_options = options.segment;
+  Run run{input, options, open_backend, obs, r};
+  if (options.label > 0) use_label(run.opt);
+  r.input.path = scan ? scan->source : input;  // the file, without the label
+  r.segment_options = run.opt.segment;
   r.eps_given = options.fit.eps > 0;
-  // Memory: the particles alone first, then with the volume and the points, before the
-  // fit, the particles and the triangulation start.
-  const int64_t asked = options.sample.particles > 0 ? options.sample.particles : particles::kDefaultParticles;
-  check_memory("run", estimate_run_bytes(0, 0, asked));
-  const PointCloud cloud = is_mesh_path(input) ? points_from_mesh(run) : points_from_volume(run);
+  const int64_t asked = asked_particles(options);
+  const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run);
   r.points = cloud.size();
   r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked);
   check_memory(input, r.memory_estimate);
@@ -224,6 +233,37 @@ RunResult run_pipeline(const std::string& input, const RunOptions& options, cons
                              return mpu::polygonize(r.surface, 0, *run.backend);
                            })});
   return r;
+}
+
+// A label's runs name it beside the volume in their messages.
+std::string input_name(const Volume& scan, const RunOptions& options) {
+  return options.label > 0 ? seg::label_name(scan.source, options.label) : scan.source;
+}
+
+}  // namespace
+
+bool is_mesh_path(const std::string& path) {
+  const std::string ext = lower_case(std::filesystem::path(path).extension().string());
+  return ext == ".stl" || ext == ".ply" || ext == ".obj" || ext == ".off";
+}
+
+RunResult run_pipeline(const std::string& input, const RunOptions& options, const BackendOpener& open_backend,
+                       Observer* observer) {
+  Observer quiet;
+  Observer& obs = observer ? *observer : quiet;
+  // Memory: the particles alone first, then with the volume and the points, before the
+  // fit, the particles and the triangulation start.
+  check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
+  if (is_mesh_path(input)) return run_stages(input, nullptr, options, open_backend, obs);
+  const Volume scan = stage(obs, "read volume", [&] { return read_volume(input); });
+  return run_stages(input_name(scan, options), &scan, options, open_backend, obs);
+}
+
+RunResult run_pipeline(const Volume& volume, const RunOptions& options, const BackendOpener& open_backend,
+                       Observer* observer) {
+  Observer quiet;
+  check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
+  return run_stages(input_name(volume, options), &volume, options, open_backend, observer ? *observer : quiet);
 }
 
 }  // namespace mpumesh::pipeline

@@ -41,6 +41,9 @@ class Observer {
 struct RunOptions {
   seg::SegmentOptions segment;  // volumes only
   pts::PointOptions points;     // volumes only
+  // Above 0: the volume is a label map and this label is meshed (seg/label_map.h); the
+  // segmentation is its indicator's threshold at 0.5, whatever `segment` says.
+  int64_t label = 0;
   mpu::FitOptions fit;          // eps 0: from the scan (mpu/fit_tolerance.h), or from the points
   // particles and spacing 0: the default count, which follows the volume's voxel size.
   particles::SampleOptions sample;
@@ -117,6 +120,10 @@ using BackendOpener = std::function<ComputeBackend&()>;
 // input mesh, no surface in the segmentation, a triangulation that is not a closed
 // oriented manifold) and NumericalError for a non-finite vertex.
 RunResult run_pipeline(const std::string& input, const RunOptions& options, const BackendOpener& open_backend,
+                       Observer* observer = nullptr);
+// The same on a volume already read (its source names it in messages), so that one
+// reading serves many runs, one per label of a label map.
+RunResult run_pipeline(const Volume& volume, const RunOptions& options, const BackendOpener& open_backend,
                        Observer* observer = nullptr);
 
 // Whether `path` names a surface mesh (.stl, .ply, .obj, .off) rather than a volume.

@@ -216,6 +216,10 @@ std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) {
         double rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / sz) : d_from / (d_from + d_to);
         const double pv = opt.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
         if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
+        if (opt.caps_to_field_crossing) {
+          const double f_from = field[p + n * from.pk], f_to = field[p + n * to.pk];
+          if (f_from > 0 && f_to < -f_from) rise = std::min(rise, f_from / (f_from - f_to));
+        }
         part.add(g.scaled(double(i), double(j), z_from + dir * rise), Eigen::Vector3d(0, 0, dir), true, k);
       }
   };

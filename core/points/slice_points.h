@@ -1,5 +1,5 @@
-// Stage 3: a segmentation to an oriented point cloud (DESIGN.md, "Contours, points,
-// normals").
+// Stage 3: a segmentation to an oriented point cloud (docs/method.md, "Contours, points
+// and normals").
 // - Contour points: the vertices of every slice's sub-pixel contours (marching squares on
 //   the segmentation's boundary field), at the slice's z.
 // - Cap points: where a region ends between two slices k and k+1, a point over every pixel
@@ -38,6 +38,12 @@ struct PointOptions {
   // the column allows it, else from the contours alone. Off by default: on a 6 mm ball in
   // 2 mm slices its truer surface leaves the particle count 1.45 times the one asked.
   bool partial_volume_caps = false;
+  // Where the field, linear between the two slices, crosses zero below the mid-plane, a
+  // cap rises no further than that crossing: a quarter slice toward another label in a
+  // label map's indicator (seg/label_map.h), where toward the background the crossing is
+  // the mid-plane and the ruled height stays. Set for label maps only: an intensity's
+  // linear crossing is no height.
+  bool caps_to_field_crossing = false;
   // PCA radius: max(radius_slices * slice spacing, radius_pixels * in-plane spacing).
   double radius_slices = 1.5;
   double radius_pixels = 3.0;

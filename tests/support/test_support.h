@@ -72,6 +72,21 @@ PointCloud sample_shape(const AnalyticShape& s, double h_xy, double h_z, bool de
 // the inner normals toward the centre (outward of the shell).
 PointCloud spherical_shell(double r_outer, double r_inner);
 
+// A label map (whole numbers, 0 the background; no partial volume, as segmenters write
+// them), 0.8 x 0.8 x 1.6 mm voxels: an ellipsoid (semi-axes 12, 9, 10 mm) cut by a plane
+// tilted against the slices into label 1 and label 2, which touch across the cut; a ball
+// of radius 5 mm apart, label 3; label 4 of 2 voxels, too small to mesh; and a ball of
+// radius 4 mm, label 5, inside a ball of radius 8.5 mm, label 6, which touch on a sphere.
+struct LabelPhantom {
+  Eigen::Vector3d centre{19, 18, 16}, radii{12, 9, 10};
+  Eigen::Vector3d cut_normal = Eigen::Vector3d(1, 0.3, 0.5).normalized();  // label 2 on its side
+  Eigen::Vector3d ball_centre{38, 18, 16};
+  double ball_radius = 5;
+  Eigen::Vector3d nest_centre{56.3, 18.2, 17.1};
+  double core_radius = 4, nest_radius = 8.5;
+  Volume volume() const;
+};
+
 // Random binary volume (values +-100), fixed seed.
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed);
 
