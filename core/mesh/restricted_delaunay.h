@@ -1,5 +1,5 @@
 // Stage 7: the restricted Delaunay triangulation of the particles on the MPU surface
-// (DESIGN.md "Triangulation"): the Delaunay facets of the particles (CGAL's
+// (docs/method.md "Triangulation"): the Delaunay facets of the particles (CGAL's
 // Delaunay_triangulation_3) whose dual Voronoi edge crosses f = 0, i.e. whose two Voronoi
 // vertices (circumcentres) have f of opposite signs. Where the sample is too thin for a
 // manifold (an edge with more than two such facets, a vertex with more than one fan), a

@@ -1,4 +1,4 @@
-// Stage 4: fits the MPU surface to an oriented point cloud (DESIGN.md, "MPU implicit").
+// Stage 4: fits the MPU surface to an oriented point cloud (docs/method.md, "The MPU surface").
 // An octree over the points' bounding cube (enlarged by `margin`); a cell of centre c and
 // diagonal d gets the support radius R = alpha d, grown by lambda R until the ball holds
 // nmin points; its fit is a height field when every normal in the ball lies within 90° of

@@ -1,4 +1,4 @@
-// One iteration of the particle system (DESIGN.md stage 6, Witkin & Heckbert 1994 with
+// One iteration of the particle system (docs/method.md "Particles", Witkin & Heckbert 1994 with
 // the paper's curvature weight) in double precision: the CPU reference of
 // shaders/particle_step_grid_*.comp, particle_step_repulsion.comp, particle_step_project.comp and
 // particle_step_thickness.comp, and the native CPU path. The population (fission, death)
@@ -29,7 +29,7 @@
 //      densely (fewer needles at the rims of plates thinner than the sampling).
 // The paper multiplies E_i and ṗ_i by the curvature weight λ_i; here λ_i sets the
 // particle's target radius instead (particle_system.h), which is the reading that
-// makes high curvature denser (see DESIGN.md): scaling E_i and Ê alike would change the
+// makes high curvature denser (see docs/method.md): scaling E_i and Ê alike would change the
 // speed only.
 #pragma once
 

@@ -1,4 +1,4 @@
-// Stage 6: curvature-adaptive particles on an MPU surface (DESIGN.md "Particles").
+// Stage 6: curvature-adaptive particles on an MPU surface (docs/method.md "Particles").
 //
 // Seeding: a Poisson-disk subset of candidate points (the input points, or the fit's leaf
 // centres) pulled onto f = 0. Each particle's target spacing is

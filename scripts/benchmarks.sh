@@ -1,0 +1,79 @@
+#!/usr/bin/env bash
+# Runs the benchmarks on this machine and writes their output, with the date, the commit
+# and the machine, to docs/benchmarks.md; renders the README's picture (docs/skull.png)
+# from the sample CT. Every figure in that file is what the benchmark printed in this run.
+# Usage: bash scripts/benchmarks.sh   (after scripts/setup.sh; takes 10-20 minutes on 2 cores)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+B=${BUILD_DIR:-build}/tools
+ct=data/Cranium.inv3
+mkdir -p data
+[ -f "$ct" ] || cp /usr/share/doc/invesalius-examples/examples/Cranium.inv3 "$ct"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+commit=$(git rev-parse --short HEAD)
+git diff --quiet HEAD -- . ':!docs' || commit="$commit with uncommitted changes"
+cpu=$(lscpu | sed -n 's/^Model name: *//p' | head -1)
+mem=$(awk '/MemTotal/ {printf "%.0f GiB", $2 / 1048576}' /proc/meminfo)
+devices=$("$B/mpumesh" devices 2>&1 | sed 's/^/    /')
+
+# One benchmark: its title, what it measures, then its command and output.
+section() {
+  local title=$1 what=$2
+  shift 2
+  echo "running: $*" >&2
+  local out
+  out=$("$@" 2>&1)
+  {
+    echo
+    echo "## $title"
+    echo
+    echo "$what"
+    echo
+    echo '```text'
+    echo "\$ $*" | sed "s|$B/||g; s|OUT_DIR=[^ ]* ||"
+    echo "$out"
+    echo '```'
+  } >> "$tmp/body.md"
+}
+
+: > "$tmp/body.md"
+section "The whole job on the sample CT against its peers" \
+  "Ours as \`mpumesh run\` runs it, CGAL Mesh_3 with \`manifold()\` at a similar triangle count, the original MPU mesh and marching cubes, all in this run; distances are to and from the marching-cubes surface." \
+  "$B/mpumesh_bench_run" "$ct" 226 0 3.4 0.72
+section "Accuracy against analytic truth" \
+  "CT-like phantoms (partial volume, noise, slices thicker than the pixels, tilted shapes), meshed as a user does, scored from the mesh files against the closed form." \
+  "$B/mpumesh_bench_truth"
+section "Segmentation and points" "The sample CT's segmentation and point stages on every backend." \
+  "$B/mpumesh_bench_points" "$ct" 226
+section "MPU fit and evaluation" "The fit of the sample CT's points and the evaluation throughput on every backend." \
+  "$B/mpumesh_bench_mpu" "$ct" 226
+section "Marching cubes" "The voxel-level baseline on every backend." "$B/mpumesh_bench_mc" "$ct" 226
+section "The sample CT at full resolution" \
+  "The CT resampled to 512 x 512 x 324 voxels and meshed at the defaults: stage times, peak memory and the estimate \`run\` checked before its long work." \
+  env OUT_DIR="$tmp/large" bash scripts/bench_large.sh
+
+# The README's picture: the sample CT's skull, coloured by Gaussian curvature.
+"$B/mpumesh" run "$ct" --threshold 226 --largest 1 -o "$tmp/skull.ply" --quiet --no-self-intersections
+"$B/mpumesh" render "$tmp/skull.ply" -o docs/skull.png --color curvature --view=-1,1,1 --size 800x600 \
+  --title "sample CT, --largest 1" --quiet
+
+{
+  echo "# Benchmarks"
+  echo
+  echo "Written by \`scripts/benchmarks.sh\` from the benchmarks' own output."
+  echo
+  echo "- date: $(date -u '+%Y-%m-%d %H:%M UTC')"
+  echo "- commit: $commit"
+  echo "- machine: $cpu, $(nproc) cores, $mem"
+  echo "- Vulkan devices:"
+  echo
+  echo "$devices"
+  echo
+  echo "Timings on one machine drift by 30% and more within an hour: compare the figures of"
+  echo "one run with each other, not with another run's."
+  cat "$tmp/body.md"
+} > docs/benchmarks.md.partial
+mv docs/benchmarks.md.partial docs/benchmarks.md
+echo "wrote docs/benchmarks.md and docs/skull.png"
