@@ -32,7 +32,7 @@ section() {
     echo "$what"
     echo
     echo '```text'
-    echo "\$ $*" | sed "s|$B/||g; s|OUT_DIR=[^ ]* ||"
+    echo "\$ $*" | sed -E "s|$B/||g; s|[A-Z_]+=[^ ]* ||g; s|^\\$ env |\$ |"
     echo "$out"
     echo '```'
   } >> "$tmp/body.md"
@@ -50,6 +50,12 @@ section "Segmentation and points" "The sample CT's segmentation and point stages
 section "MPU fit and evaluation" "The fit of the sample CT's points and the evaluation throughput on every backend." \
   "$B/mpumesh_bench_mpu" "$ct" 226
 section "Marching cubes" "The voxel-level baseline on every backend." "$B/mpumesh_bench_mc" "$ct" 226
+section "The Python module against the program" \
+  "The sample CT meshed by \`mpumesh run\` as a process and by \`mpumesh.read_volume\`, \`run\` and \`write_mesh\` in Debian's python3, alternately." \
+  env PYTHONPATH="${BUILD_DIR:-build}/python" MPUMESH_BIN="$B/mpumesh" /usr/bin/python3 tools/bench/bench_python.py "$ct" 226 3
+section "A folder of scans through the workflow" \
+  "workflow/Snakefile on six CT-like ball phantoms, one job per scan, with one core and with two." \
+  env MPUMESH_BIN="$B/mpumesh" /usr/bin/python3 tools/bench/bench_workflow.py 6
 section "The sample CT at full resolution" \
   "The CT resampled to 512 x 512 x 324 voxels and meshed at the defaults: stage times, peak memory and the estimate \`run\` checked before its long work." \
   env OUT_DIR="$tmp/large" bash scripts/bench_large.sh

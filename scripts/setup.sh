@@ -14,9 +14,11 @@ PACKAGES=(
   libinsighttoolkit5-dev zlib1g-dev
   # command line, JSON, formatting, threads, neighbour search, images
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev libtbb-dev libnanoflann-dev libstb-dev
+  # the Python module and the cohort workflow
+  pybind11-dev python3-dev python3-numpy snakemake
   # tests (chromium: the HTML report opened in a real, headless browser; clang and its
-  # runtime: the libFuzzer targets)
-  libgtest-dev chromium clang libclang-rt-14-dev
+  # runtime: the libFuzzer targets; pytest and nibabel: the Python module's tests)
+  libgtest-dev chromium clang libclang-rt-14-dev python3-pytest python3-nibabel
   # sample data: the InVesalius head CT, pydicom's small real DICOM files
   invesalius-examples python3-pydicom
 )

@@ -51,8 +51,7 @@ Volume read_volume(const std::string& path) {
   else if (lower_case(path).ends_with(".inv3")) v = parse_inv3(read_file(path), path);
   else v = from_plain(itk_read_file(path), path);
   validate_volume(v, path);
-  for (float x : v.voxels)
-    if (!std::isfinite(x)) throw InputError(path + ": the volume holds NaN or infinite values");
+  require_finite_voxels(v, path);
   return v;
 }
 

@@ -66,8 +66,7 @@ particles::SampleOptions denser(particles::SampleOptions x, int64_t asked) {
 }
 
 // A closed manifold mesh to its points (the vertices, with area-weighted normals).
-PointCloud points_from_mesh(Run& run) {
-  const TriangleMesh in = stage(run.obs, "read mesh", [&] { return read_mesh(run.input); });
+PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
   require_closed_manifold(in, run.input, "the input mesh", "remeshing needs a closed surface");
   PointCloud cloud = stage(run.obs, "points", [&] { return pts::mesh_points(in); });
   if (cloud.size() == 0) throw InputError(run.input + ": the mesh has no triangle with an area");
@@ -203,9 +202,9 @@ int64_t asked_particles(const RunOptions& options) {
   return options.sample.particles > 0 ? options.sample.particles : particles::kDefaultParticles;
 }
 
-// Every stage after reading; `scan` is null for a mesh input, read from `input`.
-RunResult run_stages(const std::string& input, const Volume* scan, const RunOptions& options,
-                     const BackendOpener& open_backend, Observer& obs) {
+// Every stage after reading, on a volume (`scan`) or a mesh; `input` names it in messages.
+RunResult run_stages(const std::string& input, const Volume* scan, const TriangleMesh* mesh,
+                     const RunOptions& options, const BackendOpener& open_backend, Observer& obs) {
   RunResult r;
   Run run{input, options, open_backend, obs, r};
   if (options.label > 0) use_label(run.opt);
@@ -213,7 +212,7 @@ RunResult run_stages(const std::string& input, const Volume* scan, const RunOpti
   r.segment_options = run.opt.segment;
   r.eps_given = options.fit.eps > 0;
   const int64_t asked = asked_particles(options);
-  const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run);
+  const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run, *mesh);
   r.points = cloud.size();
   r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked);
   check_memory(input, r.memory_estimate);
@@ -254,16 +253,27 @@ RunResult run_pipeline(const std::string& input, const RunOptions& options, cons
   // Memory: the particles alone first, then with the volume and the points, before the
   // fit, the particles and the triangulation start.
   check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
-  if (is_mesh_path(input)) return run_stages(input, nullptr, options, open_backend, obs);
+  if (is_mesh_path(input)) {
+    const TriangleMesh mesh = stage(obs, "read mesh", [&] { return read_mesh(input); });
+    return run_stages(input, nullptr, &mesh, options, open_backend, obs);
+  }
   const Volume scan = stage(obs, "read volume", [&] { return read_volume(input); });
-  return run_stages(input_name(scan, options), &scan, options, open_backend, obs);
+  return run_stages(input_name(scan, options), &scan, nullptr, options, open_backend, obs);
 }
 
 RunResult run_pipeline(const Volume& volume, const RunOptions& options, const BackendOpener& open_backend,
                        Observer* observer) {
   Observer quiet;
   check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
-  return run_stages(input_name(volume, options), &volume, options, open_backend, observer ? *observer : quiet);
+  return run_stages(input_name(volume, options), &volume, nullptr, options, open_backend,
+                    observer ? *observer : quiet);
+}
+
+RunResult run_pipeline(const TriangleMesh& mesh, const std::string& name, const RunOptions& options,
+                       const BackendOpener& open_backend, Observer* observer) {
+  Observer quiet;
+  check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
+  return run_stages(name, nullptr, &mesh, options, open_backend, observer ? *observer : quiet);
 }
 
 }  // namespace mpumesh::pipeline

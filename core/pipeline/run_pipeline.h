@@ -125,6 +125,9 @@ RunResult run_pipeline(const std::string& input, const RunOptions& options, cons
 // reading serves many runs, one per label of a label map.
 RunResult run_pipeline(const Volume& volume, const RunOptions& options, const BackendOpener& open_backend,
                        Observer* observer = nullptr);
+// The same on a closed surface mesh already read, to remesh it; `name` names it in messages.
+RunResult run_pipeline(const TriangleMesh& mesh, const std::string& name, const RunOptions& options,
+                       const BackendOpener& open_backend, Observer* observer = nullptr);
 
 // Whether `path` names a surface mesh (.stl, .ply, .obj, .off) rather than a volume.
 bool is_mesh_path(const std::string& path);

@@ -22,6 +22,8 @@ Volume label_indicator(const Volume& labels, int64_t label) {
   const float l = float(label);
   int64_t n = 0;
   for (float& x : v.voxels) {
+    if (!(std::nearbyint(x) == x))
+      throw InputError(fmt::format("{}: not a label map: a voxel holds {}, not a whole number", labels.source, x));
     n += x == l;
     x = x == l ? 1.0f : x == 0.0f ? 0.0f : -1.0f;
   }

@@ -26,7 +26,8 @@ namespace mpumesh::seg {
 std::string label_name(const std::string& source, int64_t label);
 
 // The indicator of `label` (see above), with the volume's geometry and the label's name
-// as its source. Throws InputError when no voxel holds the label, or too few.
+// as its source. Throws InputError when a voxel is not a whole number (not a label map),
+// or when no voxel holds the label, or too few.
 Volume label_indicator(const Volume& labels, int64_t label);
 
 // The voxel count of every non-zero label. Throws InputError naming the volume when a

@@ -79,4 +79,9 @@ void validate_volume(const Volume& v, const std::string& what) {
     throw InputError(what + ": origin or direction cosines are not valid");
 }
 
+void require_finite_voxels(const Volume& v, const std::string& what) {
+  for (const float x : v.voxels)
+    if (!std::isfinite(x)) throw InputError(what + ": the volume holds NaN or infinite values");
+}
+
 }  // namespace mpumesh

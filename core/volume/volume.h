@@ -41,6 +41,9 @@ void require_3d(const Volume& v);
 // Checks the invariants every stage relies on; throws InputError naming `what`.
 void validate_volume(const Volume& v, const std::string& what);
 
+// Throws InputError naming `what` when a voxel is NaN or infinite.
+void require_finite_voxels(const Volume& v, const std::string& what);
+
 // The same physical extent on a grid of `dims` voxels (trilinear; voxel centres keep
 // their places: new spacing = old spacing x old dims / new dims). Values are rounded when
 // every input value is a whole number (CT in HU), so the result stores as int16.

@@ -1,0 +1,55 @@
+// The options of `mpumesh run`, which the command and the Python module share: their
+// CLI11 definitions (one set of names, checks and messages), the pipeline's options they
+// make, and the JSON report of a run.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+
+#include "cli_util.h"
+#include "commands.h"
+#include "mesh/component_filter.h"
+#include "pipeline/run_pipeline.h"
+#include "seg_cli.h"
+
+namespace mpumesh::tools {
+
+// What --labels paths hold in place of the label.
+inline constexpr std::string_view kLabelField = "{label}";
+
+struct RunCli {
+  std::string input, output, report, html, surface, local_fit = "orthopoly";
+  SegmentCli seg;
+  mpu::FitOptions fit;
+  particles::SampleOptions sample;
+  BackendOptions backend;
+  bool self_intersections = true, partial_volume_caps = false;
+  int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
+  ComponentFilter components;
+  int64_t label = 0;   // --label
+  std::string labels;  // --labels: "all" or a list
+  int threads = 0;     // 0: every core
+};
+
+// The input and the output paths.
+void add_run_paths(CLI::App* cmd, RunCli& o);
+// Every other option (segmentation, fit, particles, components, backend, threads).
+void add_run_parameters(CLI::App* cmd, RunCli& o);
+
+// `path` with its "{label}" replaced by the label.
+std::string with_label(std::string path, int64_t label);
+
+// The outputs, checked before the long work starts (their directories writable, the mesh
+// format known, --labels paths holding {label}).
+void check_run_outputs(const RunCli& o);
+// The parameters, checked, as the pipeline's options (throws InputError).
+pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common);
+
+// The JSON report (without the stage times, the HTML path and the memory, which come last).
+nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeline::RunResult& r,
+                        const vk::BackendChoice& choice);
+nlohmann::json memory_json(const pipeline::RunResult& r);
+
+}  // namespace mpumesh::tools
