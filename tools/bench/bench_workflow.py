@@ -13,7 +13,7 @@ import numpy as np
 
 count = int(sys.argv[1]) if len(sys.argv) > 1 else 6
 source = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-program = os.environ.get("MPUMESH_BIN", os.path.join(source, "build", "tools", "mpumesh"))
+program = os.path.abspath(os.environ.get("MPUMESH_BIN", os.path.join(source, "build", "tools", "mpumesh")))
 rng = np.random.default_rng(1)
 
 
@@ -36,9 +36,11 @@ with tempfile.TemporaryDirectory() as tmp:
     for cores in (1, 2):
         out = os.path.join(tmp, f"meshes{cores}")
         t = time.perf_counter()
-        subprocess.run(["snakemake", "-s", os.path.join(source, "workflow", "Snakefile"), "--cores", str(cores),
-                        "--directory", tmp, "--quiet", "--config", f"input_dir={scans}", f"output_dir={out}",
-                        f"mpumesh={program}", "threads=1", "threshold=500"], check=True, capture_output=True)
+        r = subprocess.run(["snakemake", "-s", os.path.join(source, "workflow", "Snakefile"), "--cores", str(cores),
+                            "--directory", tmp, "--quiet", "--config", f"input_dir={scans}", f"output_dir={out}",
+                            f"mpumesh={program}", "threads=1", "threshold=500"], capture_output=True, text=True)
+        if r.returncode != 0:
+            sys.exit(f"snakemake failed:\n{r.stdout}{r.stderr}")
         times[cores] = time.perf_counter() - t
         meshed = sum(f.endswith(".ply") for f in os.listdir(out))
         print(f"--cores {cores}: {times[cores]:6.2f} s for {meshed} of {count} scans")
