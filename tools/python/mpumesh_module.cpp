@@ -45,6 +45,16 @@ std::string option_text(const std::string& key, const py::handle& v) {
   return number(v);
 }
 
+// The command line's "--some-option" in a message as the keyword some_option.
+std::string keyword_names(std::string text) {
+  for (size_t at; (at = text.find("--")) != std::string::npos;) {
+    text.erase(at, 2);
+    for (size_t i = at; i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '-'); ++i)
+      if (text[i] == '-') text[i] = '_';
+  }
+  return text;
+}
+
 // The keywords as `mpumesh run` options, parsed by the command's definitions.
 void parse_options(RunCli& o, const py::dict& options) {
   CLI::App app{"mpumesh"};
@@ -71,9 +81,7 @@ void parse_options(RunCli& o, const py::dict& options) {
   try {
     app.parse(int(argv.size()), argv.data());
   } catch (const CLI::ParseError& e) {
-    std::string what = e.what();
-    for (std::string::size_type at; (at = what.find("--")) != std::string::npos;) what.erase(at, 2);
-    throw InputError("mpumesh: " + what);
+    throw InputError("mpumesh: " + keyword_names(e.what()));
   }
 }
 
