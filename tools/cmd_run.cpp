@@ -130,22 +130,13 @@ struct LabelShape {
   TriangleMesh mesh;
 };
 
-bool boxes_overlap(const TriangleMesh& a, const TriangleMesh& b) {
-  auto box = [](const TriangleMesh& m) {
-    Eigen::AlignedBox3d x;
-    for (const auto& v : m.vertices) x.extend(v);
-    return x;
-  };
-  return box(a).intersects(box(b));
-}
-
 // The triangle pairs by which two labels' meshes cross, for every two whose boxes overlap
 // (the separation that touching labels keep is in seg/label_map.h).
 nlohmann::json label_crossings(const std::vector<LabelShape>& shapes, bool talk) {
   nlohmann::json out = nlohmann::json::array();
   for (size_t a = 0; a < shapes.size(); ++a)
     for (size_t b = a + 1; b < shapes.size(); ++b) {
-      if (!boxes_overlap(shapes[a].mesh, shapes[b].mesh)) continue;
+      if (!bounding_boxes_overlap(shapes[a].mesh, shapes[b].mesh)) continue;
       const int64_t n = count_crossings(shapes[a].mesh, shapes[b].mesh);
       out.push_back({{"labels", {shapes[a].label, shapes[b].label}}, {"triangle_pairs", n}});
       if (talk && n > 0)
@@ -161,14 +152,15 @@ nlohmann::json label_crossings(const std::vector<LabelShape>& shapes, bool talk)
 nlohmann::json yield_to_earlier_labels(pipeline::RunResult& r, const std::vector<LabelShape>& earlier, double voxel,
                                        const pipeline::RunOptions& options) {
   std::vector<const TriangleMesh*> near;
+  nlohmann::json against = nlohmann::json::array();
   for (const LabelShape& e : earlier)
-    if (boxes_overlap(r.mesh, e.mesh)) near.push_back(&e.mesh);
+    if (bounding_boxes_overlap(r.mesh, e.mesh)) {
+      near.push_back(&e.mesh);
+      against.push_back(e.label);
+    }
   if (near.empty()) return nullptr;
   const SeparationStats s = separate_from(r.mesh, near, 0.1 * voxel);
   if (s.moved_vertices > 0 && r.has_quality) r.quality = measure_quality(r.mesh, options.quality_options);
-  nlohmann::json against = nlohmann::json::array();
-  for (const LabelShape& e : earlier)
-    if (boxes_overlap(r.mesh, e.mesh)) against.push_back(e.label);
   return {{"against_labels", against},          {"crossings_before", s.crossings_before},
           {"crossings_after", s.crossings_after}, {"moved_vertices", s.moved_vertices},
           {"reverted_vertices", s.reverted_vertices}, {"rounds", s.rounds},

@@ -107,15 +107,18 @@ int64_t undo_bad_moves(TriangleMesh& a, const std::vector<Move>& moves, const st
 
 }  // namespace
 
+bool bounding_boxes_overlap(const TriangleMesh& a, const TriangleMesh& b) {
+  return bounding_box(a).intersects(bounding_box(b));
+}
+
 SeparationStats separate_from(TriangleMesh& a, const std::vector<const TriangleMesh*>& fixed, double margin,
                               int max_rounds) {
   SeparationStats s;
   const std::vector<std::vector<uint32_t>> around = vertex_triangles(a);
   const std::vector<Eigen::Vector3d> start = a.vertices;
-  const Eigen::AlignedBox3d box_a = bounding_box(a);
   std::vector<const TriangleMesh*> near;
   for (const TriangleMesh* f : fixed)
-    if (box_a.intersects(bounding_box(*f))) near.push_back(f);
+    if (bounding_boxes_overlap(a, *f)) near.push_back(f);
   std::set<uint32_t> moved;
   for (;; ++s.rounds) {
     int64_t crossings = 0;

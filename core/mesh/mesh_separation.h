@@ -11,6 +11,10 @@
 
 namespace mpumesh {
 
+// Whether the two meshes' axis-aligned bounding boxes meet (no crossing is possible
+// otherwise).
+bool bounding_boxes_overlap(const TriangleMesh& a, const TriangleMesh& b);
+
 struct SeparationStats {
   int64_t crossings_before = 0, crossings_after = 0;  // triangle pairs, over every fixed mesh
   int64_t moved_vertices = 0;

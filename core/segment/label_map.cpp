@@ -7,6 +7,14 @@
 #include "common/error.h"
 
 namespace mpumesh::seg {
+namespace {
+
+void require_whole(float x, const std::string& source) {
+  if (!(std::nearbyint(x) == x))
+    throw InputError(fmt::format("{}: not a label map: a voxel holds {}, not a whole number", source, x));
+}
+
+}  // namespace
 
 std::string too_small_to_mesh(int64_t voxels) {
   if (voxels >= kMinLabelVoxels) return "";
@@ -22,8 +30,7 @@ Volume label_indicator(const Volume& labels, int64_t label) {
   const float l = float(label);
   int64_t n = 0;
   for (float& x : v.voxels) {
-    if (!(std::nearbyint(x) == x))
-      throw InputError(fmt::format("{}: not a label map: a voxel holds {}, not a whole number", labels.source, x));
+    require_whole(x, labels.source);
     n += x == l;
     x = x == l ? 1.0f : x == 0.0f ? 0.0f : -1.0f;
   }
@@ -36,8 +43,7 @@ Volume label_indicator(const Volume& labels, int64_t label) {
 std::map<int64_t, int64_t> label_voxel_counts(const Volume& labels) {
   std::map<int64_t, int64_t> counts;
   for (const float x : labels.voxels) {
-    if (!(std::nearbyint(x) == x))
-      throw InputError(fmt::format("{}: not a label map: a voxel holds {}, not a whole number", labels.source, x));
+    require_whole(x, labels.source);
     if (x != 0.0f && ++counts[int64_t(x)] == 1 && counts.size() > kMaxLabels)
       throw InputError(fmt::format("{}: more than {} different labels: this looks like an intensity image, not a "
                                    "label map (name the labels with --labels L1,L2,... to mesh them anyway)",
