@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <tbb/global_control.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 #include <map>
@@ -16,7 +17,6 @@
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/volume_io.h"
-#include "mesh/cgal_geometry.h"
 #include "mesh/mesh_separation.h"
 #include "mpu/mpu_io.h"
 #include "report_builder.h"
@@ -124,33 +124,19 @@ struct PendingOutputs {
   }
 };
 
-// A label's mesh (vertices and triangles only), for the check that no two cross.
+// A label's mesh (vertices and triangles only), for the labels after it to yield to.
 struct LabelShape {
   int64_t label;
   TriangleMesh mesh;
 };
 
-// The triangle pairs by which two labels' meshes cross, for every two whose boxes overlap
-// (the separation that touching labels keep is in seg/label_map.h).
-nlohmann::json label_crossings(const std::vector<LabelShape>& shapes, bool talk) {
-  nlohmann::json out = nlohmann::json::array();
-  for (size_t a = 0; a < shapes.size(); ++a)
-    for (size_t b = a + 1; b < shapes.size(); ++b) {
-      if (!bounding_boxes_overlap(shapes[a].mesh, shapes[b].mesh)) continue;
-      const int64_t n = count_crossings(shapes[a].mesh, shapes[b].mesh);
-      out.push_back({{"labels", {shapes[a].label, shapes[b].label}}, {"triangle_pairs", n}});
-      if (talk && n > 0)
-        std::cout << fmt::format("note: the meshes of labels {} and {} cross ({} triangle pairs)\n", shapes[a].label,
-                                 shapes[b].label, n);
-    }
-  return out;
-}
-
 // A label meshed after others that it touches moves its vertices out of theirs
 // (mesh/mesh_separation.h), to a tenth of a voxel from them, and its quality is measured
-// again; null when no earlier label is near.
-nlohmann::json yield_to_earlier_labels(pipeline::RunResult& r, const std::vector<LabelShape>& earlier, double voxel,
-                                       const pipeline::RunOptions& options) {
+// again; null when no earlier label is near. The triangle pairs by which its final mesh
+// still crosses each of them go to `crossings` (and to the user, where there are any).
+nlohmann::json yield_to_earlier_labels(pipeline::RunResult& r, int64_t label, const std::vector<LabelShape>& earlier,
+                                       double voxel, const pipeline::RunOptions& options, bool talk,
+                                       nlohmann::json& crossings) {
   std::vector<const TriangleMesh*> near;
   nlohmann::json against = nlohmann::json::array();
   for (const LabelShape& e : earlier)
@@ -161,6 +147,12 @@ nlohmann::json yield_to_earlier_labels(pipeline::RunResult& r, const std::vector
   if (near.empty()) return nullptr;
   const SeparationStats s = separate_from(r.mesh, near, 0.1 * voxel);
   if (s.moved_vertices > 0 && r.has_quality) r.quality = measure_quality(r.mesh, options.quality_options);
+  for (size_t k = 0; k < near.size(); ++k) {
+    const int64_t other = against[k].get<int64_t>(), n = s.crossings_with[k];
+    crossings.push_back({{"labels", {std::min(other, label), std::max(other, label)}}, {"triangle_pairs", n}});
+    if (talk && n > 0)
+      std::cout << fmt::format("note: the meshes of labels {} and {} cross ({} triangle pairs)\n", other, label, n);
+  }
   return {{"against_labels", against},          {"crossings_before", s.crossings_before},
           {"crossings_after", s.crossings_after}, {"moved_vertices", s.moved_vertices},
           {"reverted_vertices", s.reverted_vertices}, {"rounds", s.rounds},
@@ -186,6 +178,7 @@ void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonO
   PendingOutputs pending;
   std::vector<LabelShape> shapes;
   nlohmann::json meshed = nlohmann::json::array(), skipped = nlohmann::json::array();
+  nlohmann::json crossings = nlohmann::json::array();
   auto skip = [&](int64_t l, const std::string& why) {
     skipped.push_back({{"label", l}, {"voxels", counts.at(l)}, {"reason", why}});
     if (talk) std::cout << "note: " << seg::label_name(o.input, l) << ": skipped: " << why << "\n";
@@ -208,7 +201,8 @@ void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonO
       skip(l, e.what());
       continue;
     }
-    const nlohmann::json separation = yield_to_earlier_labels(r, shapes, vol.in_plane_spacing(), base);
+    const nlohmann::json separation =
+        yield_to_earlier_labels(r, l, shapes, vol.in_plane_spacing(), base, talk, crossings);
     const std::string out = with_label(o.output, l);
     write_mesh(r.mesh, pending.add(out));
     if (!o.surface.empty()) write_mpu(r.surface, pending.add(with_label(o.surface, l)));
@@ -229,9 +223,8 @@ void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonO
     shapes.back().mesh.triangles = r.mesh.triangles;
   }
   if (meshed.empty()) throw InputError(o.input + ": no label could be meshed (" + skipped.dump() + ")");
-  progress.begin("label crossings");
-  const nlohmann::json crossings = label_crossings(shapes, talk);
-  progress.end();
+  std::sort(crossings.begin(), crossings.end(),
+            [](const nlohmann::json& x, const nlohmann::json& y) { return x["labels"] < y["labels"]; });
   pending.commit();
   nlohmann::json j = {{"input", o.input},      {"labels", meshed},        {"skipped", skipped},
                       {"crossings", crossings}, {"version", MPUMESH_VERSION}};

@@ -116,16 +116,20 @@ SeparationStats separate_from(TriangleMesh& a, const std::vector<const TriangleM
   SeparationStats s;
   const std::vector<std::vector<uint32_t>> around = vertex_triangles(a);
   const std::vector<Eigen::Vector3d> start = a.vertices;
-  std::vector<const TriangleMesh*> near;
-  for (const TriangleMesh* f : fixed)
-    if (bounding_boxes_overlap(a, *f)) near.push_back(f);
+  std::vector<size_t> near;  // indices into `fixed`
+  for (size_t k = 0; k < fixed.size(); ++k)
+    if (bounding_boxes_overlap(a, *fixed[k])) near.push_back(k);
+  s.crossings_with.assign(fixed.size(), 0);
   std::set<uint32_t> moved;
   for (;; ++s.rounds) {
     int64_t crossings = 0;
     std::vector<Move> moves;
-    for (const TriangleMesh* f : near) {
-      std::vector<Move> m = moves_out_of(a, *f, margin, around, crossings);
+    for (const size_t k : near) {
+      int64_t with = 0;
+      std::vector<Move> m = moves_out_of(a, *fixed[k], margin, around, with);
       moves.insert(moves.end(), m.begin(), m.end());
+      s.crossings_with[k] = with;
+      crossings += with;
     }
     if (s.rounds == 0) s.crossings_before = crossings;
     s.crossings_after = crossings;

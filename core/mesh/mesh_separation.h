@@ -17,6 +17,7 @@ bool bounding_boxes_overlap(const TriangleMesh& a, const TriangleMesh& b);
 
 struct SeparationStats {
   int64_t crossings_before = 0, crossings_after = 0;  // triangle pairs, over every fixed mesh
+  std::vector<int64_t> crossings_with;  // after, per mesh of `fixed` (0 where the boxes do not meet)
   int64_t moved_vertices = 0;
   int64_t reverted_vertices = 0;  // moves undone because they folded or crossed `a` itself
   int rounds = 0;
