@@ -46,6 +46,7 @@ nlohmann::json fit_json(const mpu::FitOptions& o, const mpu::FitStats& st) {
           {"height_orthopoly", st.height_orthopoly},
           {"height_quadric", st.height_quadric},
           {"general_quadric", st.general_quadric},
+          {"two_sheets", st.two_sheets},
           {"orthopoly_degrees", {{"2", st.degree_counts[2]}, {"3", st.degree_counts[3]}, {"4", st.degree_counts[4]}}},
           {"leaves_over_eps", st.over_eps},
           {"duplicates_removed", st.duplicates_removed},
@@ -97,10 +98,10 @@ void add_fit_command(CLI::App& app, CommonOptions& common, std::function<void()>
       j["stage_seconds"] = stage_json(progress);
       if (common.json) std::cout << j.dump(2) << '\n';
       else if (!common.quiet)
-        std::cout << fmt::format("{}: {} leaves ({} orthopoly, {} quadric height fields, {} general quadrics) from {} "
-                                 "points in {:.2f} s, eps {:.3g} mm\n",
+        std::cout << fmt::format("{}: {} leaves ({} orthopoly, {} quadric height fields, {} general quadrics, {} two "
+                                 "sheets) from {} points in {:.2f} s, eps {:.3g} mm\n",
                                  o->output, st.leaves, st.height_orthopoly, st.height_quadric, st.general_quadric,
-                                 cloud.size(), st.seconds, st.eps);
+                                 st.two_sheets, cloud.size(), st.seconds, st.eps);
     };
   });
 }

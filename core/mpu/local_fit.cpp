@@ -85,6 +85,17 @@ void projections(const double* x, const double* basis, int count, size_t n, doub
 // 15-18. The other terms only add ±0 to local_poly's sums, so |q| and |∇q|, hence the
 // error, are its to the bit; the sums below are in its order.
 double taubin_error_local(const Leaf& leaf, const Local& l) {
+  if (leaf.kind == FitKind::kTwoSheets) {  // every term: local_poly itself
+    double worst = 0;
+    for (size_t i = 0; i < l.u.size(); ++i) {
+      double q, g[3], h[6];
+      local_poly(leaf.coeffs.data(), l.u[i], l.v[i], l.w[i], q, g, h);
+      const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+      const double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+      worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
+    }
+    return worst;
+  }
   const double* c = leaf.coeffs.data();
   const bool general = leaf.kind == FitKind::kGeneralQuadric;
   const int degree = general ? 2 : std::clamp<int>(leaf.degree, 1, 4);
@@ -346,6 +357,96 @@ Leaf fit_general_quadric(const Ball& ball, const PointCloud& cloud, const std::v
   Leaf leaf = make_leaf(ball, frame, FitKind::kGeneralQuadric);
   for (int c = 0; c < 10; ++c) leaf.coeffs[size_t(kIdx[c])] = x[c];
   *error = (x.allFinite() && !aux.empty()) ? taubin_error_local(leaf, l) : std::numeric_limits<double>::infinity();
+  return leaf;
+}
+
+namespace {
+
+// The weighted least-squares quadric height field w = h(u, v) of the rows `rows` of l (its
+// six monomial coefficients), or the plane (three) where the rows do not determine the
+// quadric (too few, or along a line); false where they determine neither.
+bool sheet_height(const Local& l, const std::vector<size_t>& rows, std::array<double, 6>& h) {
+  h.fill(0);
+  for (int terms : {6, 3}) {
+    if (rows.size() < size_t(terms) + 4) continue;
+    Eigen::Matrix<double, 6, 6> A = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> b = Eigen::Matrix<double, 6, 1>::Zero();
+    for (size_t i : rows) {
+      double m[15];
+      bivariate_monomials(l.u[i], l.v[i], m);
+      const Eigen::Map<const Eigen::Matrix<double, 6, 1>> mv(m);
+      A += l.weight[i] * mv * mv.transpose();
+      b += l.weight[i] * l.w[i] * mv;
+    }
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(A.topLeftCorner(terms, terms));
+    if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-9)) continue;
+    const Eigen::VectorXd x = ldlt.solve(b.head(terms));
+    if (!x.allFinite()) continue;
+    for (int k = 0; k < terms; ++k) h[size_t(k)] = x[k];
+    return true;
+  }
+  return false;
+}
+
+double quadratic_at(const std::array<double, 6>& h, double u, double v) {
+  return h[0] + h[1] * u + h[2] * v + h[3] * u * u + h[4] * u * v + h[5] * v * v;
+}
+
+}  // namespace
+
+Leaf fit_two_sheets(const Ball& ball, const PointCloud& cloud, double* error) {
+  *error = std::numeric_limits<double>::infinity();
+  // The normals' axis.
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (uint32_t id : ball.ids) {
+    const double wt = std::max(bspline((cloud.positions[id] - ball.centre).norm(), ball.radius), 1e-3);
+    scatter += wt * cloud.normals[id] * cloud.normals[id].transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(scatter);
+  const Eigen::Vector3d axis = es.eigenvectors().col(2).normalized();
+  const Eigen::Matrix3d frame = frame_from_normal(axis);
+  Leaf leaf = make_leaf(ball, frame, FitKind::kTwoSheets);
+  const Local& l = to_local(ball, cloud, frame);
+  std::vector<size_t> up, down;
+  double oblique = 0, total = 0;
+  for (size_t i = 0; i < ball.ids.size(); ++i) {
+    const double s = cloud.normals[ball.ids[i]].dot(axis);
+    (s > 0 ? up : down).push_back(i);
+    total += l.weight[i];
+    if (std::abs(s) < 0.5) oblique += l.weight[i];
+  }
+  if (up.size() < size_t(kMinSheetPoints) || down.size() < size_t(kMinSheetPoints) || oblique > 0.1 * total) return leaf;
+  std::array<double, 6> a, b;
+  if (!sheet_height(l, up, a) || !sheet_height(l, down, b)) return leaf;
+  // The mean separation, and the sheets apart at every point.
+  double t = 0;
+  for (size_t i = 0; i < l.u.size(); ++i) t += l.weight[i] * (quadratic_at(a, l.u[i], l.v[i]) - quadratic_at(b, l.u[i], l.v[i]));
+  t /= total;
+  if (!(std::abs(t) > 0)) return leaf;
+  for (size_t i = 0; i < l.u.size(); ++i)
+    if (!((quadratic_at(a, l.u[i], l.v[i]) - quadratic_at(b, l.u[i], l.v[i])) / t > 0.2)) return leaf;
+  // Nor anywhere over the ball (|u|, |v| <= 1 in its scaled frame): sheets that cross
+  // beyond the points turn inside and outside about there.
+  for (int i = -4; i <= 4; ++i)
+    for (int j = -4; j <= 4; ++j)
+      if (!((quadratic_at(a, 0.25 * i, 0.25 * j) - quadratic_at(b, 0.25 * i, 0.25 * j)) / t > 0.2)) return leaf;
+  // q t = w² - w (a + b) + a b, in the basis of local_poly.h.
+  Coeffs& c = leaf.coeffs;
+  c.fill(0);
+  c[16] = 1;
+  constexpr int kW[6] = {15, 17, 18, 19, 20, 21};  // w times 1, u, v, u², uv, v²
+  for (int k = 0; k < 6; ++k) c[size_t(kW[k])] = -(a[size_t(k)] + b[size_t(k)]);
+  // Monomial k of bivariate_monomials is u^(d - j) v^j, d its degree: k = d (d + 1) / 2 + j.
+  constexpr int kDeg[6] = {0, 1, 1, 2, 2, 2}, kV[6] = {0, 0, 1, 0, 1, 2};
+  for (int i = 0; i < 6; ++i)
+    for (int k = 0; k < 6; ++k) {
+      const int d = kDeg[i] + kDeg[k], j = kV[i] + kV[k];
+      c[size_t(d * (d + 1) / 2 + j)] += a[size_t(i)] * b[size_t(k)];
+    }
+  for (double& x : c) x /= t;
+  leaf.degree = 2;
+  *error = taubin_error_local(leaf, l);
   return leaf;
 }
 

@@ -78,7 +78,7 @@ struct Avx2 {
   }
 
   MPUMESH_SIMD_TARGET static void load_leaves(const double* const* p, V* F) {
-    for (int blk = 0; blk < 8; ++blk) {
+    for (int blk = 0; blk < 9; ++blk) {
       const int o = 4 * blk;
       transpose4(_mm256_loadu_pd(p[0] + o), _mm256_loadu_pd(p[1] + o), _mm256_loadu_pd(p[2] + o),
                  _mm256_loadu_pd(p[3] + o), &F[o].a, &F[o + 1].a, &F[o + 2].a, &F[o + 3].a);

@@ -61,6 +61,18 @@ struct Avx512 {
       for (int l = 0; l < 8; ++l) r[l] = _mm512_loadu_pd(p[l] + 8 * blk);
       transpose(r, F + 8 * blk);
     }
+    // Doubles 32-35 (the last coefficients and the leaf's kind, degree, depth and count,
+    // read but unused), two leaves a register, then a 4 x 8 transpose as in `support`.
+    V z[4];
+    for (int k = 0; k < 4; ++k)
+      z[k] = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_loadu_pd(p[2 * k] + 32)), _mm256_loadu_pd(p[2 * k + 1] + 32), 1);
+    const __m512i lo = _mm512_setr_epi64(0, 4, 1, 5, 8, 12, 9, 13), hi = _mm512_setr_epi64(2, 6, 3, 7, 10, 14, 11, 15);
+    const V t0 = _mm512_unpacklo_pd(z[0], z[1]), t1 = _mm512_unpackhi_pd(z[0], z[1]);
+    const V t2 = _mm512_unpacklo_pd(z[2], z[3]), t3 = _mm512_unpackhi_pd(z[2], z[3]);
+    F[32] = _mm512_permutex2var_pd(t0, lo, t2);
+    F[34] = _mm512_permutex2var_pd(t0, hi, t2);
+    F[33] = _mm512_permutex2var_pd(t1, lo, t3);
+    F[35] = _mm512_permutex2var_pd(t1, hi, t3);
   }
 
   MPUMESH_SIMD_TARGET static int support(const double* spheres, const uint32_t* ids, int count, V px, V py, V pz,

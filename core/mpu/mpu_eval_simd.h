@@ -27,8 +27,9 @@ struct MpuSurface;
 namespace simd {
 
 // What a kernel needs of the surface (mpu_surface.h): the lookup grid, the compact
-// spheres (cx, cy, cz, R² per leaf) and the leaves themselves, whose first 32 doubles
-// are centre (3), radius, frame (9, column-major) and coefficients (19).
+// spheres (cx, cy, cz, R² per leaf) and the leaves themselves, whose first 35 doubles
+// are centre (3), radius, frame (9, column-major) and coefficients (22); the kernels read
+// 36 (the leaf's record is at least that long).
 struct EvalView {
   double box_min[3];
   double box_size;

@@ -3,7 +3,7 @@
 //   V, Mask; set1, zero, add, sub, mul, div, sqrt, lt, le, sel(m, t, f) = m ? t : f,
 //   keep(m, a) = m ? a : +0, first(a) = lane 0, store(p, a) (8 doubles),
 //   lanes_from(k): the mask of lanes >= k,
-//   load_leaves(p[8], F[32]): F[k] lane l = p[l][k],
+//   load_leaves(p[8], F[36]): F[k] lane l = p[l][k],
 //   support(spheres, ids, count <= 8, px, py, pz, out): appends to out, in order, the ids
 //     whose sphere (cx, cy, cz, R²) holds the point (r² < R²); returns how many.
 // The including file defines MPUMESH_SIMD_TARGET (the target attribute) first. Every
@@ -40,7 +40,7 @@ MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const 
                                            bool first, double& f0, Sums<I>& s) {
   using V = typename I::V;
   using Mask = typename I::Mask;
-  V F[32];
+  V F[36];
   I::load_leaves(p, F);
   V dx = I::sub(I::set1(x[0]), F[0]), dy = I::sub(I::set1(x[1]), F[1]), dz = I::sub(I::set1(x[2]), F[2]);
   if (pad_from < 8) {
@@ -89,6 +89,9 @@ MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const 
   q = I::add(q, I::mul(I::mul(c[16], ww), ww));
   q = I::add(q, I::mul(I::mul(c[17], u), ww));
   q = I::add(q, I::mul(I::mul(c[18], v), ww));
+  q = I::add(q, I::mul(I::mul(c[19], u2), ww));
+  q = I::add(q, I::mul(I::mul(c[20], uv), ww));
+  q = I::add(q, I::mul(I::mul(c[21], v2), ww));
   const V Q = I::mul(R, q);
   if (first) f0 = I::first(Q);
   const V Qs = I::sub(Q, I::set1(f0));
@@ -106,6 +109,8 @@ MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const 
     g0 = I::add(g0, I::mul(I::mul(I::mul(two, c[12]), u), v2));
     g0 = I::add(g0, I::mul(I::mul(c[13], v2), v));
     g0 = I::add(g0, I::mul(c[17], ww));
+    g0 = I::add(g0, I::mul(I::mul(I::mul(two, c[19]), u), ww));
+    g0 = I::add(g0, I::mul(I::mul(c[20], v), ww));
     V g1 = c[2];
     g1 = I::add(g1, I::mul(c[4], u));
     g1 = I::add(g1, I::mul(I::mul(two, c[5]), v));
@@ -117,10 +122,15 @@ MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const 
     g1 = I::add(g1, I::mul(I::mul(I::mul(three, c[13]), u), v2));
     g1 = I::add(g1, I::mul(I::mul(I::mul(four, c[14]), v2), v));
     g1 = I::add(g1, I::mul(c[18], ww));
+    g1 = I::add(g1, I::mul(I::mul(c[20], u), ww));
+    g1 = I::add(g1, I::mul(I::mul(I::mul(two, c[21]), v), ww));
     V g2 = c[15];
     g2 = I::add(g2, I::mul(I::mul(two, c[16]), ww));
     g2 = I::add(g2, I::mul(c[17], u));
     g2 = I::add(g2, I::mul(c[18], v));
+    g2 = I::add(g2, I::mul(c[19], u2));
+    g2 = I::add(g2, I::mul(c[20], uv));
+    g2 = I::add(g2, I::mul(c[21], v2));
     const V sc = I::mul(c15, invR);
     const Mask inner = I::le(I::mul(sc, r), c05);
     const V k1 = I::sel(inner, I::mul(I::mul(m2, sc), sc), I::div(dw, r));
@@ -140,19 +150,28 @@ MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const 
       h0 = I::add(h0, I::mul(I::mul(twelve, c[10]), u2));
       h0 = I::add(h0, I::mul(I::mul(six, c[11]), uv));
       h0 = I::add(h0, I::mul(I::mul(two, c[12]), v2));
+      h0 = I::add(h0, I::mul(I::mul(two, c[19]), ww));
       V h1 = c[4];
       h1 = I::add(h1, I::mul(I::mul(two, c[7]), u));
       h1 = I::add(h1, I::mul(I::mul(two, c[8]), v));
       h1 = I::add(h1, I::mul(I::mul(three, c[11]), u2));
       h1 = I::add(h1, I::mul(I::mul(four, c[12]), uv));
       h1 = I::add(h1, I::mul(I::mul(three, c[13]), v2));
+      h1 = I::add(h1, I::mul(c[20], ww));
       V h3 = I::mul(two, c[5]);
       h3 = I::add(h3, I::mul(I::mul(two, c[8]), u));
       h3 = I::add(h3, I::mul(I::mul(six, c[9]), v));
       h3 = I::add(h3, I::mul(I::mul(two, c[12]), u2));
       h3 = I::add(h3, I::mul(I::mul(six, c[13]), uv));
       h3 = I::add(h3, I::mul(I::mul(twelve, c[14]), v2));
-      const V h2 = c[17], h4 = c[18], h5 = I::mul(two, c[16]);
+      h3 = I::add(h3, I::mul(I::mul(two, c[21]), ww));
+      V h2 = c[17];
+      h2 = I::add(h2, I::mul(I::mul(two, c[19]), u));
+      h2 = I::add(h2, I::mul(c[20], v));
+      V h4 = c[18];
+      h4 = I::add(h4, I::mul(c[20], u));
+      h4 = I::add(h4, I::mul(I::mul(two, c[21]), v));
+      const V h5 = I::mul(two, c[16]);
       const V Hl[3][3] = {{h0, h1, h2}, {h1, h3, h4}, {h2, h4, h5}};
       V A[3][3];
       for (int a = 0; a < 3; ++a)
@@ -208,13 +227,14 @@ MPUMESH_SIMD_TARGET EvalOut eval_kernel(const EvalView& view, const double x[3])
     out.f = view.box_size;
     return out;
   }
-  // Every hit's record requested at once (its 256 bytes span up to five cache lines), so
-  // that the blocks' loads below overlap instead of each block waiting in turn: 12-15%
+  // Every hit's record requested at once (the 288 bytes read span up to six cache lines),
+  // so that the blocks' loads below overlap instead of each block waiting in turn: 12-15%
   // faster on the CT surface, where the leaves (68 MB) are read from L3 or memory.
   // (Prefetching the candidates' spheres as well made it slower: those are cached.)
   for (int j = 0; j < n; ++j) {
     const char* rec = reinterpret_cast<const char*>(view.leaves + size_t(hid[j]) * view.leaf_stride);
     for (int line = 0; line < 5; ++line) __builtin_prefetch(rec + 64 * line);
+    __builtin_prefetch(rec + 287);
   }
   // The reference pads its last chunk of 32 leaves to whole lanes with that chunk's
   // first leaf, 4 R away along x (zero weight, zero terms).

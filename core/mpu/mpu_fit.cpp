@@ -123,6 +123,9 @@ class Fitter {
   std::vector<AuxPoint> aux_points(const Cell& c, bool lattice);
   Support support(const Cell& c);
   Outcome fit_ball(const Cell& c, const Ball& b, bool away);
+  // No auxiliary point farther than eps from the surface on the other side of the leaf's
+  // zero set.
+  bool agrees_with(const Leaf& leaf, const std::vector<AuxPoint>& aux) const;
   // No usable fit at the depth cap (no auxiliary point agreed in sign): the plane through
   // the ball's points along their mean normal, so f stays defined.
   void plane_fallback(const Ball& ball, Outcome& o);
@@ -313,10 +316,39 @@ Fitter::Outcome Fitter::fit_ball(const Cell& c, const Ball& b, bool away) {
                  ? fit_height_orthopoly(b, cloud, n, opt.max_degree, slope_length, &o.error)
                  : fit_height_quadric(b, cloud, n, &o.error);
   } else {
+    // Normals that spread past 90°: both faces of a plate or gap thinner than the ball
+    // when they split into two sheets, taken when within eps; else the better of the
+    // two sheets and the general quadric. The sheets reach across the ball, also where
+    // the plate ends inside it: they must agree with the auxiliary points' signs on the
+    // cell's half-cell lattice (inside or outside by more than eps), or they would carry
+    // the plate on past its rim.
+    double sheets_error;
+    const Leaf sheets = fit_two_sheets(b, cloud, &sheets_error);
+    if (std::isfinite(sheets_error) && !agrees_with(sheets, aux_points(c, true))) sheets_error = INFINITY;
+    if (sheets_error <= eps) {
+      o.leaf = sheets;
+      o.error = sheets_error;
+      return o;
+    }
     if (aux.empty()) aux = aux_points(c, false);
     o.leaf = fit_general_quadric(b, cloud, aux, &o.error);
+    if (sheets_error < o.error) {
+      o.leaf = sheets;
+      o.error = sheets_error;
+    }
   }
   return o;
+}
+
+bool Fitter::agrees_with(const Leaf& leaf, const std::vector<AuxPoint>& aux) const {
+  for (const AuxPoint& p : aux) {
+    if (!(std::abs(p.distance) > eps)) continue;
+    const Eigen::Vector3d y = leaf.frame * (p.position - leaf.centre) / leaf.radius;
+    double q, g[3], h[6];
+    local_poly(leaf.coeffs.data(), y.x(), y.y(), y.z(), q, g, h);
+    if ((q > 0) != (p.distance > 0)) return false;
+  }
+  return true;
 }
 
 void Fitter::plane_fallback(const Ball& ball, Outcome& o) {
@@ -421,6 +453,7 @@ void count_kinds(const MpuSurface& s, FitStats& st) {
     }
     st.height_quadric += l.kind == FitKind::kHeightQuadric;
     st.general_quadric += l.kind == FitKind::kGeneralQuadric;
+    st.two_sheets += l.kind == FitKind::kTwoSheets;
   }
   st.leaves = int64_t(s.leaves.size());
 }

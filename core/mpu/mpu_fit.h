@@ -46,7 +46,7 @@ struct FitOptions {
 void validate(const FitOptions& o);
 
 struct FitStats {
-  int64_t leaves = 0, height_orthopoly = 0, height_quadric = 0, general_quadric = 0;
+  int64_t leaves = 0, height_orthopoly = 0, height_quadric = 0, general_quadric = 0, two_sheets = 0;
   int64_t over_eps = 0;         // leaves at max depth still above eps
   std::array<int64_t, 5> degree_counts{};  // orthopoly leaves by degree (index = degree)
   int max_depth_reached = 0;

@@ -18,7 +18,9 @@ static_assert(std::endian::native == std::endian::little, "the .mpu reader and w
 
 constexpr char kMagic[8] = {'\x89', 'M', 'P', 'U', '\r', '\n', '\x1a', '\n'};
 constexpr size_t kHeaderBytes = 120;
-constexpr size_t kLeafBytes = 32 * 8 + 8;
+// A leaf's record: 13 doubles of centre, radius and frame, the coefficients (19 in
+// version 1, 22 since version 2), and 8 bytes of kind, degree, depth and count.
+constexpr size_t leaf_bytes(uint32_t version) { return (13 + coefficients_in(version)) * 8 + 8; }
 
 class Writer {
  public:
@@ -73,7 +75,7 @@ std::string serialize_mpu(const MpuSurface& s) {
   const size_t cells = size_t(g.dims[0]) * g.dims[1] * g.dims[2];
   MPUMESH_ASSERT(g.offsets.size() == cells + 1, "lookup grid offsets");
   Writer w;
-  w.out.reserve(kHeaderBytes + s.leaves.size() * kLeafBytes + 4 * (cells + 1 + g.leaf_ids.size()) + 4);
+  w.out.reserve(kHeaderBytes + s.leaves.size() * leaf_bytes(kMpuFileVersion) + 4 * (cells + 1 + g.leaf_ids.size()) + 4);
   w.out.append(kMagic, 8);
   w.put<uint32_t>(kMpuFileVersion);
   w.put<uint32_t>(0);
@@ -110,8 +112,8 @@ MpuSurface parse_mpu(const std::string& b, const std::string& name) {
     r.fail("wrong magic (not written by mpumesh fit, or changed by a text-mode copy)");
   for (int i = 0; i < 8; ++i) r.get<char>();
   const uint32_t version = r.get<uint32_t>();
-  if (version != kMpuFileVersion)
-    r.fail("version " + std::to_string(version) + ", this build reads version " + std::to_string(kMpuFileVersion));
+  if (version < 1 || version > kMpuFileVersion)
+    r.fail("version " + std::to_string(version) + ", this build reads versions 1 to " + std::to_string(kMpuFileVersion));
   r.get<uint32_t>();  // flags
   MpuSurface s;
   for (int d = 0; d < 3; ++d) s.box_min[d] = r.finite();
@@ -132,7 +134,8 @@ MpuSurface parse_mpu(const std::string& b, const std::string& name) {
   const uint64_t cells = uint64_t(s.grid.dims[0]) * s.grid.dims[1] * s.grid.dims[2];
   // The size is checked before anything is allocated: a corrupt count cannot ask for
   // gigabytes.
-  const uint64_t expect = kHeaderBytes + uint64_t(leaves) * kLeafBytes + 4 * (cells + 1) + 4 * uint64_t(entries) + 4;
+  const uint64_t expect =
+      kHeaderBytes + uint64_t(leaves) * leaf_bytes(version) + 4 * (cells + 1) + 4 * uint64_t(entries) + 4;
   if (b.size() < expect)
     r.fail("truncated: " + std::to_string(b.size()) + " bytes, the header announces " + std::to_string(expect));
   if (b.size() > expect)
@@ -149,9 +152,9 @@ MpuSurface parse_mpu(const std::string& b, const std::string& name) {
     if (!(l.radius > 0)) r.fail("leaf " + std::to_string(i) + " has radius " + std::to_string(l.radius));
     for (int row = 0; row < 3; ++row)
       for (int c = 0; c < 3; ++c) l.frame(row, c) = r.finite();
-    for (double& c : l.coeffs) c = r.finite();
+    for (size_t c = 0; c < coefficients_in(version); ++c) l.coeffs[c] = r.finite();
     const uint8_t kind = r.get<uint8_t>();
-    if (kind > 2) r.fail("leaf " + std::to_string(i) + " has unknown fit kind " + std::to_string(kind));
+    if (kind > kind_limit(version)) r.fail("leaf " + std::to_string(i) + " has unknown fit kind " + std::to_string(kind));
     l.kind = FitKind(kind);
     l.degree = r.get<uint8_t>();
     if (l.degree > 4) r.fail("leaf " + std::to_string(i) + " has degree " + std::to_string(l.degree));

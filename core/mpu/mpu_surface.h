@@ -16,7 +16,8 @@
 
 namespace mpumesh::mpu {
 
-enum class FitKind : uint8_t { kHeightOrthopoly = 0, kHeightQuadric = 1, kGeneralQuadric = 2 };
+// kTwoSheets: the two faces of a plate or gap thinner than the ball (local_fit.h).
+enum class FitKind : uint8_t { kHeightOrthopoly = 0, kHeightQuadric = 1, kGeneralQuadric = 2, kTwoSheets = 3 };
 
 struct Leaf {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();

@@ -45,10 +45,13 @@ MpuDeviceSurface::MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s) {
     abi::vec4* p = &packed[i * MPU_LEAF_VEC4];
     const Eigen::Vector3d c = l.centre - origin;
     p[0] = {float(c.x()), float(c.y()), float(c.z()), float(l.radius)};
-    for (int r = 0; r < 3; ++r)
-      p[1 + r] = {float(l.frame(r, 0)), float(l.frame(r, 1)), float(l.frame(r, 2)), r == 0 ? float(1.0 / l.radius) : 0.f};
+    // The frame rows' fourth components: 1/R, then coefficients 19 and 20 (u²w, uvw);
+    // coefficient 21 (v²w) follows the first 19 in the fifth coefficient vec4.
+    const float fourth[3] = {float(1.0 / l.radius), float(l.coeffs[19]), float(l.coeffs[20])};
+    for (int r = 0; r < 3; ++r) p[1 + r] = {float(l.frame(r, 0)), float(l.frame(r, 1)), float(l.frame(r, 2)), fourth[r]};
     float coeffs[20] = {};
-    for (int k = 0; k < mpu::kTerms; ++k) coeffs[k] = float(l.coeffs[size_t(k)]);
+    for (int k = 0; k < 19; ++k) coeffs[k] = float(l.coeffs[size_t(k)]);
+    coeffs[19] = float(l.coeffs[21]);
     for (int v = 0; v < 5; ++v) p[4 + v] = {coeffs[4 * v], coeffs[4 * v + 1], coeffs[4 * v + 2], coeffs[4 * v + 3]};
   }
   leaves = upload(ctx, packed);

@@ -62,15 +62,19 @@ MpuSample mpu_evaluate_opt(vec3 x, uint second) {
     float u = y.x, v = y.y, ww = y.z;
     float u2 = u * u, v2 = v * v, uv = u * v;
     // Coefficients: c0 = (1 u v u²), c1 = (uv v² u³ u²v), c2 = (uv² v³ u⁴ u³v),
-    // c3 = (u²v² uv³ v⁴ w), c4 = (w² uw vw 0).
+    // c3 = (u²v² uv³ v⁴ w), c4 = (w² uw vw v²w); fv.w = u²w, fw.w = uvw.
+    float e19 = fv.w, e20 = fw.w, e21 = c4.w;
     float q = c0.x + c0.y * u + c0.z * v + c0.w * u2 + c1.x * uv + c1.y * v2 + c1.z * u2 * u + c1.w * u2 * v +
               c2.x * u * v2 + c2.y * v2 * v + c2.z * u2 * u2 + c2.w * u2 * uv + c3.x * u2 * v2 + c3.y * uv * v2 +
-              c3.z * v2 * v2 + c3.w * ww + c4.x * ww * ww + c4.y * u * ww + c4.z * v * ww;
+              c3.z * v2 * v2 + c3.w * ww + c4.x * ww * ww + c4.y * u * ww + c4.z * v * ww + e19 * u2 * ww +
+              e20 * uv * ww + e21 * v2 * ww;
     float gu = c0.y + 2.0 * c0.w * u + c1.x * v + 3.0 * c1.z * u2 + 2.0 * c1.w * uv + c2.x * v2 +
-               4.0 * c2.z * u2 * u + 3.0 * c2.w * u2 * v + 2.0 * c3.x * u * v2 + c3.y * v2 * v + c4.y * ww;
+               4.0 * c2.z * u2 * u + 3.0 * c2.w * u2 * v + 2.0 * c3.x * u * v2 + c3.y * v2 * v + c4.y * ww +
+               2.0 * e19 * u * ww + e20 * v * ww;
     float gv = c0.z + c1.x * u + 2.0 * c1.y * v + c1.w * u2 + 2.0 * c2.x * uv + 3.0 * c2.y * v2 +
-               c2.w * u2 * u + 2.0 * c3.x * u2 * v + 3.0 * c3.y * u * v2 + 4.0 * c3.z * v2 * v + c4.z * ww;
-    float gw = c3.w + 2.0 * c4.x * ww + c4.y * u + c4.z * v;
+               c2.w * u2 * u + 2.0 * c3.x * u2 * v + 3.0 * c3.y * u * v2 + 4.0 * c3.z * v2 * v + c4.z * ww +
+               e20 * u * ww + 2.0 * e21 * v * ww;
+    float gw = c3.w + 2.0 * c4.x * ww + c4.y * u + c4.z * v + e19 * u2 + e20 * uv + e21 * v2;
     // World units: Q = R q, ∇Q = Mᵀ ∇q, HQ = Mᵀ Hq M / R (M's rows are fu, fv, fw; GLSL
     // matrices are column-major, so mat3(fu, fv, fw) is Mᵀ).
     mat3 Mt = mat3(fu.xyz, fv.xyz, fw.xyz);
@@ -87,10 +91,13 @@ MpuSample mpu_evaluate_opt(vec3 x, uint second) {
     gN += Qs * gw3 + w * gQ;
     gD += gw3;
     if (second != MPU_NO_HESSIAN) {
-      float huu = 2.0 * c0.w + 6.0 * c1.z * u + 2.0 * c1.w * v + 12.0 * c2.z * u2 + 6.0 * c2.w * uv + 2.0 * c3.x * v2;
-      float huv = c1.x + 2.0 * c1.w * u + 2.0 * c2.x * v + 3.0 * c2.w * u2 + 4.0 * c3.x * uv + 3.0 * c3.y * v2;
-      float hvv = 2.0 * c1.y + 2.0 * c2.x * u + 6.0 * c2.y * v + 2.0 * c3.x * u2 + 6.0 * c3.y * uv + 12.0 * c3.z * v2;
-      mat3 Hq = mat3(huu, huv, c4.y, huv, hvv, c4.z, c4.y, c4.z, 2.0 * c4.x);
+      float huu = 2.0 * c0.w + 6.0 * c1.z * u + 2.0 * c1.w * v + 12.0 * c2.z * u2 + 6.0 * c2.w * uv + 2.0 * c3.x * v2 +
+                  2.0 * e19 * ww;
+      float huv = c1.x + 2.0 * c1.w * u + 2.0 * c2.x * v + 3.0 * c2.w * u2 + 4.0 * c3.x * uv + 3.0 * c3.y * v2 + e20 * ww;
+      float hvv = 2.0 * c1.y + 2.0 * c2.x * u + 6.0 * c2.y * v + 2.0 * c3.x * u2 + 6.0 * c3.y * uv + 12.0 * c3.z * v2 +
+                  2.0 * e21 * ww;
+      float huw = c4.y + 2.0 * e19 * u + e20 * v, hvw = c4.z + e20 * u + 2.0 * e21 * v;
+      mat3 Hq = mat3(huu, huv, huw, huv, hvv, hvw, huw, hvw, 2.0 * c4.x);
       mat3 HQ = Mt * Hq * transpose(Mt) * invR;
       if (second == MPU_BLENDED_HESSIAN) {
         HN += w * HQ;

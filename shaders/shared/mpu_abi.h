@@ -2,8 +2,8 @@
 // (core/mpu/mpu_eval_ref.cpp). Positions are in millimetres relative to an origin the
 // host chooses (the bounding cube's centre), so that float32 keeps about 1e-5 mm of
 // resolution across a head-sized volume. Each leaf is 9 vec4:
-//   [0] centre.xyz, R      [1] frame row u.xyz, 1/R   [2] row v.xyz, 0   [3] row w.xyz, 0
-//   [4..8] the 19 coefficients of core/mpu/local_poly.h, then one 0.
+//   [0] centre.xyz, R      [1] frame row u.xyz, 1/R   [2] row v.xyz, c19   [3] row w.xyz, c20
+//   [4..8] coefficients 0-18 of core/mpu/local_poly.h, then c21.
 // The lookup grid is CSR: offsets[cell], offsets[cell + 1] bound the cell's run of
 // leaf_ids. Output per point: vec4 (f, ∇f) and vec4 (κ1, κ2, K, mean curvature); with
 // value_only set, vec4 (f, ∇f) alone (no Hessian; the curvature buffer is not written).

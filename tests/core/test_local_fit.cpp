@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "mpu/local_fit.h"
+#include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh::mpu {
 namespace {
@@ -98,6 +99,88 @@ TEST(LocalFit, MeanNormalWeighsThePointsNearTheCentre) {
   c.normals = {{0, 0, 1}, {1, 0, 0}};
   const Eigen::Vector3d n = mean_normal(all_of(c, {0, 0, 0}, 1), c);
   EXPECT_GT(n.z(), 10 * n.x()) << "the point at the centre outweighs the one near the rim";
+}
+
+// Points of the spheres of radius r_up (normals along +r when up_out, else -r) and r_down
+// (the other way) over a 9 x 9 grid of x, y in [-3, 3]: near the pole, two sheets about
+// 2 mm apart.
+PointCloud two_spheres(double r_up, double r_down, bool plate) {
+  PointCloud c;
+  for (double r : {r_up, r_down})
+    for (int i = -4; i <= 4; ++i)
+      for (int j = -4; j <= 4; ++j) {
+        const Eigen::Vector3d p(0.75 * i, 0.75 * j, std::sqrt(r * r - 0.5625 * (i * i + j * j)));
+        const bool out = (r == r_up) == plate;  // a plate's outer sheet faces out, its inner one in
+        c.positions.push_back(p);
+        c.normals.push_back((out ? 1.0 : -1.0) * p.normalized());
+      }
+  return c;
+}
+
+// The leaf's Q, ∇Q and Hessian in world units at x (local_poly.h: Q = R q).
+struct WorldValue {
+  double Q;
+  Eigen::Vector3d g;
+  Eigen::Matrix3d H;
+};
+WorldValue at(const Leaf& l, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d y = l.frame * (x - l.centre) / l.radius;
+  double q, g[3], h[6];
+  local_poly(l.coeffs.data(), y.x(), y.y(), y.z(), q, g, h);
+  Eigen::Matrix3d Hq;
+  Hq << h[0], h[1], h[2], h[1], h[3], h[4], h[2], h[4], h[5];
+  return {l.radius * q, l.frame.transpose() * Eigen::Vector3d(g[0], g[1], g[2]),
+          l.frame.transpose() * Hq * l.frame / l.radius};
+}
+
+TEST(LocalFit, TwoSheetsHoldBothFacesOfACurvedPlate) {
+  const PointCloud c = two_spheres(20, 18, true);
+  double error = -1;
+  const Leaf leaf = fit_two_sheets(all_of(c, {0, 0, 19}, 4), c, &error);
+  EXPECT_EQ(leaf.kind, FitKind::kTwoSheets);
+  EXPECT_LT(error, 0.01);  // a quadric holds a 20 mm sphere over ±3 mm to about 1 µm
+  EXPECT_LT(at(leaf, {0, 0, 19}).Q, 0);  // the plate between the sheets is inside
+  EXPECT_GT(at(leaf, {0, 0, 21}).Q, 0);
+  EXPECT_GT(at(leaf, {0, 0, 17}).Q, 0);
+  for (const auto& [x, r] : {std::pair{Eigen::Vector3d(0.5, -0.3, 0), 20.0}, std::pair{Eigen::Vector3d(0.5, -0.3, 0), 18.0}}) {
+    Eigen::Vector3d p = x;
+    p.z() = std::sqrt(r * r - x.squaredNorm());
+    const WorldValue v = at(leaf, p);
+    const Eigen::Vector3d outward = (r == 20 ? 1.0 : -1.0) * p.normalized();
+    EXPECT_NEAR(v.Q, 0, 0.01) << r;
+    EXPECT_NEAR(v.g.norm(), 1, 0.05) << r;  // about a signed distance
+    EXPECT_GT(v.g.normalized().dot(outward), std::cos(0.1 * M_PI / 180)) << r;
+    // Each sheet's curvature is its sphere's: K = 1 / r².
+    EXPECT_NEAR(curvature(v.g, v.H).gauss * r * r, 1, 0.03) << r;
+  }
+}
+
+TEST(LocalFit, TwoSheetsOfAGapAreOutsideBetween) {
+  const PointCloud c = two_spheres(20, 18, false);
+  double error = -1;
+  const Leaf leaf = fit_two_sheets(all_of(c, {0, 0, 19}, 4), c, &error);
+  EXPECT_LT(error, 0.01);
+  EXPECT_GT(at(leaf, {0, 0, 19}).Q, 0);
+  EXPECT_LT(at(leaf, {0, 0, 21}).Q, 0);
+  EXPECT_LT(at(leaf, {0, 0, 17}).Q, 0);
+}
+
+TEST(LocalFit, TwoSheetsRefuseOneSheetAndSheetsThatCross) {
+  double error = 0;
+  auto quad = [](double x, double y) { return 0.05 * x * x + 0.04 * y * y; };
+  auto quad_grad = [](double x, double y) { return Eigen::Vector2d(0.1 * x, 0.08 * y); };
+  const PointCloud one = height_field(quad, quad_grad);
+  fit_two_sheets(all_of(one, {0, 0, 0}, 7), one, &error);
+  EXPECT_TRUE(std::isinf(error));
+  // z = 0.3 x facing up and z = -0.3 x facing down: they cross along x = 0.
+  PointCloud cross = height_field([](double x, double) { return 0.3 * x; }, [](double, double) { return Eigen::Vector2d(0.3, 0); });
+  const PointCloud down = height_field([](double x, double) { return -0.3 * x; }, [](double, double) { return Eigen::Vector2d(-0.3, 0); });
+  for (size_t i = 0; i < down.size(); ++i) {
+    cross.positions.push_back(down.positions[i]);
+    cross.normals.push_back(-down.normals[i]);
+  }
+  fit_two_sheets(all_of(cross, {0, 0, 0}, 7), cross, &error);
+  EXPECT_TRUE(std::isinf(error));
 }
 
 }  // namespace

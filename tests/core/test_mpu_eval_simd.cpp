@@ -2,7 +2,7 @@
 // common/simd_level.h) against the generic
 // reference (core/mpu/mpu_eval_ref.cpp): the same bytes for f, ∇f, the blended Hessian,
 // the Hessian and the leaf count, on fitted phantoms (a sphere, a slice-stacked ellipsoid,
-// a torus), at random points on, near, far from and outside the surface, with each of the
+// a torus, a thin spherical shell whose leaves hold two sheets), at random points on, near, far from and outside the surface, with each of the
 // four evaluation orders; and the fall-back to the reference where a lookup cell holds more
 // candidates than the kernels buffer. Paths this CPU lacks are skipped, and say so.
 #include <gtest/gtest.h>
@@ -105,18 +105,29 @@ TEST_P(MpuEvalSimd, GivesTheReferenceBytesOnPhantoms) {
                 simd_level_name(path), c.name, s.leaves.size(), q.size(), leaves, (long long)bad);
     EXPECT_EQ(bad, 0) << c.name;
   }
+  // Every term of the basis: the shell's two-sheet leaves (local_fit.h) use 0-21.
+  const PointCloud shell = test::spherical_shell(20, 18);
+  mpu::FitStats st;
+  const mpu::MpuSurface s = mpu::fit_mpu(shell, {}, &st);
+  ASSERT_GT(st.two_sheets, 0);
+  double leaves = 0;
+  const int64_t bad = mismatches(s, query_points(shell, s, seed), path, &leaves);
+  std::printf("%s, shell 20/18 mm: %zu leaves (%lld two sheets), %lld differ\n", simd_level_name(path), s.leaves.size(),
+              (long long)st.two_sheets, (long long)bad);
+  EXPECT_EQ(bad, 0);
 }
 
 TEST_P(MpuEvalSimd, FallsBackToTheReferenceOnCrowdedCells) {
   const SimdLevel path = GetParam();
   if (!simd_level_supported(path)) GTEST_SKIP() << simd_level_name(path) << " is not supported on this CPU";
   LevelGuard guard;
-  // A lookup grid of 2 x 2 x 2 cells over a thin spherical shell (1 mm thick: fitted
-  // down to small leaves): each cell lists more leaves than the kernels buffer, so they
-  // decline and the reference answers.
-  const PointCloud cloud = test::spherical_shell(20, 19);
+  // A lookup grid of 2 x 2 x 2 cells over an ellipsoid fitted to 1 µm (down to small
+  // leaves): each cell lists more leaves than the kernels buffer, so they decline and the
+  // reference answers.
+  const PointCloud cloud = test::sample_shape({test::AnalyticShape::kEllipsoid, 30, 20, 10}, 0.5, 0.5, true);
   mpu::FitOptions o;
   o.grid_cells = 2;
+  o.eps = 0.001;
   const mpu::MpuSurface s = mpu::fit_mpu(cloud, o);
   uint32_t most = 0;
   for (size_t c = 0; c + 1 < s.grid.offsets.size(); ++c) most = std::max(most, s.grid.offsets[c + 1] - s.grid.offsets[c]);

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
+#include <zlib.h>
+
 #include <cstring>
 
 #include "common/error.h"
@@ -53,6 +55,28 @@ TEST(MpuFile, RoundTripKeepsEveryBitAndEveryValue) {
   EXPECT_EQ(mpu::serialize_mpu(mpu::read_mpu(path)), bytes);
 }
 
+// Version 1 files (19 coefficients a leaf, kinds 0-2) are still read: the sphere's leaves
+// written so (none uses terms 19-21) read back to the same surface.
+TEST(MpuFile, ReadsVersionOneFiles) {
+  const auto& s = sphere_surface();
+  for (const auto& l : s.leaves) ASSERT_EQ(l.coeffs[19] == 0 && l.coeffs[20] == 0 && l.coeffs[21] == 0, true);
+  const std::string v2 = mpu::serialize_mpu(s);
+  constexpr size_t kHeader = 120, kHead = 13 * 8, kTail = 8;
+  std::string v1 = v2.substr(0, kHeader);
+  v1[8] = 1;
+  size_t at = kHeader;
+  for (size_t i = 0; i < s.leaves.size(); ++i) {
+    v1 += v2.substr(at, kHead + 19 * 8);
+    v1 += v2.substr(at + kHead + 22 * 8, kTail);
+    at += kHead + 22 * 8 + kTail;
+  }
+  v1 += v2.substr(at, v2.size() - 4 - at);
+  const uint32_t crc = uint32_t(crc32(crc32(0L, Z_NULL, 0), reinterpret_cast<const Bytef*>(v1.data()), uInt(v1.size())));
+  v1.append(reinterpret_cast<const char*>(&crc), 4);
+  const mpu::MpuSurface back = mpu::parse_mpu(v1, "v1.mpu");
+  EXPECT_EQ(mpu::serialize_mpu(back), v2);
+}
+
 TEST(MpuFile, RefusesTruncatedCorruptAndForeignFiles) {
   const std::string good = mpu::serialize_mpu(sphere_surface());
   EXPECT_NE(refusal("").find("empty"), std::string::npos);
@@ -74,9 +98,9 @@ TEST(MpuFile, RefusesTruncatedCorruptAndForeignFiles) {
   text.replace(4, 2, "\n");  // a CRLF -> LF conversion
   EXPECT_NE(refusal(text).find("magic"), std::string::npos);
   EXPECT_NE(refusal("ply\nformat ascii 1.0\n").find("magic"), std::string::npos);
-  std::string v2 = good;
-  v2[8] = 2;
-  EXPECT_NE(refusal(v2).find("version 2"), std::string::npos);
+  std::string v3 = good;
+  v3[8] = 3;
+  EXPECT_NE(refusal(v3).find("version 3"), std::string::npos);
   // A huge leaf count is refused from the size, before any allocation.
   std::string huge = good;
   const uint32_t big = 0xFFFFFFFFu;

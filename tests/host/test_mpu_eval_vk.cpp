@@ -94,6 +94,39 @@ TEST_P(MpuEvalVk, MatchesTheReferenceOnPointsNearTheSurface) {
   test::expect_no_validation_messages(*gpu);
 }
 
+// The thin spherical shell's leaves hold two sheets (every term of local_poly.h's basis,
+// three of them in the leaf's spare components: shaders/shared/mpu_abi.h).
+TEST(MpuEvalVk, MatchesTheReferenceOnTwoSheetLeaves) {
+  MPUMESH_VULKAN_OR_SKIP(gpu);
+  const PointCloud shell = test::spherical_shell(20, 18);
+  mpu::FitStats st;
+  const mpu::MpuSurface s = mpu::fit_mpu(shell, {}, &st);
+  ASSERT_GT(st.two_sheets, 0);
+  std::vector<Eigen::Vector3d> points;
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<size_t> pick(0, shell.size() - 1);
+  std::uniform_real_distribution<double> off(-0.8, 0.8);
+  for (int i = 0; i < 50000; ++i) {
+    const size_t k = pick(rng);
+    points.push_back(shell.positions[k] + off(rng) * shell.normals[k]);
+  }
+  CpuBackend cpu;
+  const auto rc = cpu.mpu_eval(s, points);
+  const auto rg = gpu->mpu_eval(s, points);
+  ASSERT_EQ(rc.size(), rg.size());
+  const Diff d = compare(rc, rg, 0.1 / (20.0 * 20.0));
+  std::printf("[ shell 20/18 ] %zu leaves (%lld two sheets), %zu points (%zu curved): max |df| %.2e mm, angle %.2e "
+              "deg, K rel %.2e, kappa rel %.2e\n",
+              s.leaves.size(), (long long)st.two_sheets, points.size(), d.curved, d.f, d.angle_deg, d.gauss_rel,
+              d.kappa_rel);
+  EXPECT_GT(d.curved, points.size() / 2);
+  EXPECT_LE(d.f, 1e-4);
+  EXPECT_LE(d.angle_deg, 0.01);
+  EXPECT_LE(d.gauss_rel, 1e-3);
+  EXPECT_LE(d.kappa_rel, 1e-3);
+  test::expect_no_validation_messages(*gpu);
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Shapes, MpuEvalVk,
     ::testing::Values(Case{"ellipsoid_dense", {test::AnalyticShape::kEllipsoid, 30, 20, 10}, true, 1.0 / (20.0 * 20.0)},
