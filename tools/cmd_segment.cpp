@@ -73,15 +73,16 @@ void add_points_command(CLI::App& app, CommonOptions& common, std::function<void
     std::string input, output;
     SegmentCli seg;
     BackendOptions backend;
-    bool no_caps = false, partial_volume_caps = false;
+    bool no_caps = false, ruled_caps = false;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("points", "Segment a volume and write its oriented boundary points (x y z nx ny nz)");
   cmd->add_option("input", o->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
   cmd->add_option("-o,--output", o->output, "points: .ply (binary) or .xyz (text), millimetres")->required();
   cmd->add_flag("--no-caps", o->no_caps, "leave out the cap points where a structure ends between slices");
-  cmd->add_flag("--partial-volume-caps", o->partial_volume_caps,
-                "cap heights from the grey of the two slabs the surface crosses, not the contours alone");
+  cmd->add_flag("--ruled-caps", o->ruled_caps,
+                "cap heights from the contours alone (a ruled surface between two slices' contours), not from the "
+                "grey of the two slabs the surface crosses");
   add_segment_options(cmd, o->seg);
   add_backend_options(cmd, o->backend);
   add_common(cmd, common);
@@ -94,7 +95,7 @@ void add_points_command(CLI::App& app, CommonOptions& common, std::function<void
       progress.begin("points");
       pts::PointOptions popt;
       popt.caps = !o->no_caps;
-      popt.partial_volume_caps = o->partial_volume_caps;
+      popt.partial_volume_caps = !o->ruled_caps;
       const pts::SlicePoints p = pts::extract_points(s, vol, popt);
       progress.end();
       progress.begin("write points");

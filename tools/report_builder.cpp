@@ -276,8 +276,8 @@ void add_histograms(report::HtmlPage& page, const std::vector<ReportMesh>& all,
 
 }
 
-// Spacing (mean incident edge length) against |K| on our mesh, and the particles' figures
-// from run's report.
+// Spacing (mean incident edge length) against |K| at the sampling's scale on our mesh,
+// and the particles' figures from run's report.
 void add_adaptivity(report::HtmlPage& page, const TriangleMesh& ours, const nlohmann::json& run,
                     const std::string& k_source) {
   std::vector<double> len_sum(ours.vertices.size(), 0.0), len_n(ours.vertices.size(), 0.0);
@@ -287,17 +287,19 @@ void add_adaptivity(report::HtmlPage& page, const TriangleMesh& ours, const nloh
       const double e = (ours.vertices[a] - ours.vertices[b]).norm();
       len_sum[a] += e, len_n[a] += 1, len_sum[b] += e, len_n[b] += 1;
     }
+  const std::vector<double> gauss = gauss_at_mesh_scale(ours);
   std::vector<double> absk, spacing;
   for (size_t i = 0; i < ours.vertices.size(); ++i)
-    if (len_n[i] > 0) absk.push_back(std::abs(double(ours.curvature[i][2]))), spacing.push_back(len_sum[i] / len_n[i]);
+    if (len_n[i] > 0) absk.push_back(std::abs(gauss[i])), spacing.push_back(len_sum[i] / len_n[i]);
   const double rho = particles::rank_correlation(absk, spacing);
   std::vector<double> sx, sy;
   const size_t stride = std::max<size_t>(1, absk.size() / 4000);
   for (size_t i = 0; i < absk.size(); i += stride) sx.push_back(absk[i]), sy.push_back(spacing[i]);
   page.heading("Adaptivity");
   page.paragraph(report::escape_html(fmt::format(
-      "Spacing at each vertex of our mesh (mean length of its edges) against |K| there ({}); rank correlation {:.3f} "
-      "over {} vertices ({} drawn).",
+      "Spacing at each vertex of our mesh (mean length of its edges) against |K| there ({}), averaged over the "
+      "vertices within that spacing (the curvature at the sampling's scale, which the spacing follows); rank "
+      "correlation {:.3f} over {} vertices ({} drawn).",
       k_source, rho, absk.size(), sx.size())));
   page.svg(report::svg_scatter("Vertex spacing against Gaussian curvature", "|K| (1/mm^2, log scale)",
                                "spacing (mm)", sx, sy, true));
@@ -319,9 +321,9 @@ void add_adaptivity(report::HtmlPage& page, const TriangleMesh& ours, const nloh
     const double rho_all = number(every, "rank_correlation_with_abs_K"), ratio_all = number(every, "high_over_low");
     page.paragraph(report::escape_html(
         fmt::format("Of the {:.0f} particles, {:.0f} have their spacing set by the local thickness of a plate or gap "
-                    "(the particles must sample both of its sides), the other {:.0f} by the curvature weight. Over "
-                    "those, the spacing against |K| has rank correlation {:.3f}, and the median spacing where |K| is "
-                    "in its highest tenth is {:.2f} times that in its lowest",
+                    "(the particles must sample both of its sides), the other {:.0f} by the curvature. Over those, "
+                    "the spacing against |K| at the sampling's scale has rank correlation {:.3f}, and the median "
+                    "spacing where |K| is in its highest tenth is {:.2f} times that in its lowest",
                     n_all, n_all - n_curved, n_curved, rho_curved, ratio_curved) +
         (std::isfinite(rho_all) && std::isfinite(ratio_all)
              ? fmt::format("; over all particles {:.3f} and {:.2f} times.", rho_all, ratio_all)

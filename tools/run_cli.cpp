@@ -39,8 +39,9 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
                   "the volume once; a label's mesh is kept out of those of the labels before it; -o, --html and "
                   "--surface must hold {label}, and --report gets a section per label")
       ->excludes(label);
-  cmd->add_flag("--partial-volume-caps", o.partial_volume_caps,
-                "cap points' heights from the grey of the two slabs the surface crosses, not the contours alone");
+  cmd->add_flag("--ruled-caps", o.ruled_caps,
+                "cap points' heights from the contours alone (a ruled surface between two slices' contours), not "
+                "from the grey of the two slabs the surface crosses");
   add_fit_options(cmd, o.fit, o.local_fit);
   add_sample_options(cmd, o.sample, "--particle-iterations");
   cmd->add_option("--count-retries", o.count_retries,
@@ -73,9 +74,9 @@ void check_label_options(const RunCli& o) {
   const char* flag = many ? "--labels" : "--label";
   if (pipeline::is_mesh_path(o.input))
     throw InputError(fmt::format("{}: {} needs a label map (a volume), not a mesh", o.input, flag));
-  if (o.seg.threshold_given || !o.seg.method.empty() || !o.seg.window.empty() || o.partial_volume_caps)
-    throw InputError(fmt::format("{}: a label map is segmented by its labels: --threshold, --method, --window and "
-                                 "--partial-volume-caps do not apply",
+  if (o.seg.threshold_given || !o.seg.method.empty() || !o.seg.window.empty())
+    throw InputError(fmt::format("{}: a label map is segmented by its labels: --threshold, --method and --window do "
+                                 "not apply",
                                  flag));
   if (!many) return;
   seg::parse_label_list(o.labels);  // its errors now, before the volume is read
@@ -108,7 +109,7 @@ pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common) {
   pipeline::RunOptions r;
   if (!pipeline::is_mesh_path(o.input)) r.segment = resolve(o.seg);
   r.label = o.label;
-  r.points.partial_volume_caps = o.partial_volume_caps;
+  r.points.partial_volume_caps = !o.ruled_caps;
   r.fit = o.fit;
   r.sample = o.sample;
   r.count_retries = o.count_retries;

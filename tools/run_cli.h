@@ -25,7 +25,7 @@ struct RunCli {
   mpu::FitOptions fit;
   particles::SampleOptions sample;
   BackendOptions backend;
-  bool self_intersections = true, partial_volume_caps = false;
+  bool self_intersections = true, ruled_caps = false;
   int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
   ComponentFilter components;
   int64_t label = 0;   // --label

@@ -19,6 +19,11 @@ void add_sample_options(CLI::App* cmd, particles::SampleOptions& o, const std::s
   cmd->add_option("--thickness-factor", o.thickness_factor,
                   "spacing at most this times the local thickness of plates and gaps")
       ->capture_default_str();
+  cmd->add_option_function<double>(
+         "--normal-turn", [&o](double deg) { o.normal_turn = deg * M_PI / 180; },
+         "largest turn of the surface's normal across one spacing (degrees): spacing at most this over the larger "
+         "principal curvature; 0: no such bound")
+      ->default_str("0");
   cmd->add_option("--spacing-grade", o.spacing_grade,
                   "largest change of the target spacing per mm along the surface (0: ungraded)")
       ->capture_default_str();
@@ -28,8 +33,10 @@ void add_sample_options(CLI::App* cmd, particles::SampleOptions& o, const std::s
 
 nlohmann::json sample_json(const particles::SampleOptions& o, const particles::SampleStats& st,
                            const particles::ParticleState& ps) {
+  // |K| at the sampling's scale, the curvature the spacing follows (particles/sizing_field.h).
   std::vector<double> absk(ps.size());
-  for (size_t i = 0; i < ps.size(); ++i) absk[i] = std::abs(ps.curv[i].gauss);
+  for (size_t i = 0; i < ps.size(); ++i)
+    absk[i] = std::abs(i < st.gauss_at_scale.size() ? st.gauss_at_scale[i] : ps.curv[i].gauss);
   const std::vector<double> spacing = particles::local_spacing(ps.x);
   const particles::SpacingStats sp = particles::spacing_stats(spacing, absk);
   // The same over the particles whose spacing their curvature sets (not a plate's

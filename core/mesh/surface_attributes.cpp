@@ -1,6 +1,8 @@
 #include "mesh/surface_attributes.h"
 
+#include "common/error.h"
 #include "mpu/mpu_eval_ref.h"
+#include "particles/sizing_field.h"
 
 #include <cmath>
 #include <numbers>
@@ -65,6 +67,30 @@ void estimate_mesh_curvature(TriangleMesh& mesh) {
     mesh.normals[i] = nv.cast<float>();
     mesh.curvature[i] = {float(H + d), float(H - d), float(K), float(H)};
   }
+}
+
+std::vector<double> gauss_at_mesh_scale(const TriangleMesh& m) {
+  const size_t n = m.vertices.size();
+  MPUMESH_ASSERT(m.curvature.size() == n, "gauss_at_mesh_scale: the mesh has no curvature");
+  std::vector<Eigen::Vector3d> normal(n, Eigen::Vector3d::Zero());
+  std::vector<double> area(n, 0.0), length(n, 0.0), edges(n, 0.0), gauss(n), kappa(n);
+  for (const auto& t : m.triangles) {
+    const Eigen::Vector3d c = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]);
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+      const double e = (m.vertices[a] - m.vertices[b]).norm();
+      normal[a] += c, area[a] += c.norm() / 6;
+      length[a] += e, edges[a] += 1, length[b] += e, edges[b] += 1;
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (normal[i].norm() > 0) normal[i].normalize();
+    length[i] = edges[i] > 0 ? length[i] / edges[i] : 0.0;
+    gauss[i] = m.curvature[i][2];
+    kappa[i] = std::max(std::abs(double(m.curvature[i][0])), std::abs(double(m.curvature[i][1])));
+  }
+  particles::average_over_patches(m.vertices, normal, area, length, gauss, kappa);
+  return gauss;
 }
 
 }  // namespace mpumesh

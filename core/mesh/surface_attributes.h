@@ -19,4 +19,11 @@ void attach_surface_attributes(TriangleMesh& mesh, const mpu::MpuSurface& surfac
 // mixed Voronoi area (Meyer, Desbrun, Schröder and Barr 2003), k1, k2 = H ± sqrt(H² − K).
 void estimate_mesh_curvature(TriangleMesh& mesh);
 
+// Each vertex's Gaussian curvature at the mesh's own scale: its K (mesh.curvature, which
+// must be there) averaged over the vertices within its spacing (the mean length of its
+// edges) whose normals agree (particles/sizing_field.h). A mesh with edges s long cannot
+// follow a bend narrower than s: this is the curvature its spacing can follow, and it
+// shows a CT's anatomy where the K at each vertex shows the noise of thin plates' rims.
+std::vector<double> gauss_at_mesh_scale(const TriangleMesh& mesh);
+
 }  // namespace mpumesh

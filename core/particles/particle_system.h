@@ -21,6 +21,7 @@
 // a copy of ~100 bytes per particle.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -39,20 +40,30 @@ namespace mpumesh::particles {
 // points' sampling gap. It is the count at which the sample CT's bone meets the quality
 // targets with a margin (fewer leave its thin plates to the triangulation's repair).
 constexpr int64_t kDefaultParticles = 40000;
-// For a surface from a volume (SampleOptions::voxel_size > 0), the default count instead
-// follows the scan: as many particles as give a mean spacing of this many in-plane
-// voxels over the fitted surface's area (the pool's area, below). Finer than the slices
-// resolve gains nothing; on the sample CT (0.957 mm voxels, a pool area of 258,000 mm²)
-// it asks for 52,098 (60,891 come out), on 40-70 mm phantoms scanned at 0.5-0.7 mm for
-// 1,000-8,000.
-constexpr double kDefaultVoxelsPerSpacing = 2.5;
+// For a surface from a volume (SampleOptions::voxel_size > 0), the default instead sets
+// the spacing in the scan's terms and the count follows from it: a flat spacing h of
+// kDefaultFlatVoxels in-plane voxels (about what a mean spacing of 2.5 voxels solved for
+// before, on the phantoms and the sample CT), the bend bound (normal_turn) no finer than
+// kMinBendVoxels voxels, which is as fine as a scan resolves a surface's shape (a bend of
+// a shorter wavelength than two voxels is not in the data). On the CT-like phantoms
+// (40-70 mm, 0.5-0.7 mm voxels) it gives 3,900-22,500 triangles; on the sample CT
+// (0.957 mm voxels), whose bone bends more sharply than 10° per 2 voxels over a third
+// of its area, 315,000.
+constexpr double kDefaultFlatVoxels = 6;
+constexpr double kMinBendVoxels = 2;
 
 struct SampleOptions {
   int64_t particles = 0;        // target count; 0 = from spacing
   double voxel_size = 0;        // in-plane voxel (mm) of the volume the surface came from; 0: none
   double spacing = 0;           // h, mm; 0 = from particles (or the default)
-  double curvature_scale = 1.5; // S: spacing at the highest curvature is exp(-S) of h
+  double curvature_scale = 1.0; // S: spacing at the highest |K| is exp(-S) of the base spacing
   double thickness_factor = 1.0;
+  // Largest turn of the normal across one spacing (radians): the base spacing is at most
+  // normal_turn / κ_i, κ_i the larger principal curvature at the sampling's scale, but not
+  // under the bend floor (kMinBendVoxels voxels; without a volume, the input points'
+  // largest sampling gap); 0: no such bound. At 10°, a flat triangle's face normal is
+  // about 1° off the surface's on average.
+  double normal_turn = 10 * M_PI / 180;
   int iterations = 100;         // cap
   int min_iterations = 20;
   int population_every = 5;
@@ -62,7 +73,7 @@ struct SampleOptions {
   // 0: ungraded.
   double spacing_grade = 0.3;
   uint32_t seed = 1;
-  int64_t max_particles = 0;    // cap on the population; 0 = 8 x the seeded count + 10,000
+  int64_t max_particles = 0;    // cap on the population; 0 = 1.05 x the count the targets ask for
   StepParams step;
 };
 
@@ -100,6 +111,9 @@ struct SampleStats {
   // plates are flat and sampled densely, so over all particles the spacing rises with |K|
   // (rank correlation +0.30), while over the others it falls (-0.74).
   std::vector<uint8_t> spacing_by_thickness;
+  // Per final particle: the Gaussian curvature at the sampling's scale (sizing_field.h)
+  // where it lies, the curvature its spacing follows.
+  std::vector<double> gauss_at_scale;
 };
 
 // The step parameters for the next batch: within a batch σ may grow to twice its target

@@ -84,6 +84,7 @@ void use_label(RunOptions& opt) {
   opt.segment.method = seg::Method::kThreshold;
   opt.segment.threshold = mc::ThresholdRange{0.5};
   opt.points.caps_to_field_crossing = true;
+  opt.points.partial_volume_caps = false;  // a label map has no partial volume
 }
 
 // A volume to its slice points; the fit's tolerance and the default count follow the scan.
@@ -211,9 +212,13 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   r.input.path = scan ? scan->source : input;  // the file, without the label
   r.segment_options = run.opt.segment;
   r.eps_given = options.fit.eps > 0;
-  const int64_t asked = asked_particles(options);
   const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run, *mesh);
   r.points = cloud.size();
+  // By default from a volume the count follows the surface (particles/particle_system.h):
+  // 0.6 to 1.4 particles a point on the phantoms and the sample CT; 1.5 is the estimate.
+  const bool count_follows = scan && options.sample.particles == 0 && options.sample.spacing == 0;
+  const int64_t asked = count_follows ? std::max(particles::kDefaultParticles, int64_t(1.5 * double(cloud.size())))
+                                      : asked_particles(options);
   r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked);
   check_memory(input, r.memory_estimate);
   r.fit_options = run.opt.fit;

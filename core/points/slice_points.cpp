@@ -20,6 +20,12 @@ namespace {
 constexpr double kMaxPartialVolumeShift = 0.5;
 // Levels that differ by less than this fraction of the contrast are one level.
 constexpr double kLevelSlack = 0.1;
+// The inside and outside levels are the means over a box of 2 kLevelBox + 1 pixels a side
+// in the slabs behind and beyond (the two slabs the surface crosses, over 3 x 3): the
+// levels' noise entered a cap's height twice over (g_out twice), and on the torus
+// phantom (60 HU noise) 7 x 7 boxes took the fit's normals at the mesh's vertices from
+// 1.26° to 1.12° off on average.
+constexpr int64_t kLevelBox = 3;
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
@@ -152,6 +158,15 @@ std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) {
     return sum / double(n_ids);
   };
   auto real_slice = [&](int64_t pk) { return pk >= 1 && pk <= nz; };
+  // A level's mean over the (2 kLevelBox + 1)² box at (i, j), cut at the border.
+  auto level_mean = [&](int64_t pk, int64_t i, int64_t j) {
+    double sum = 0;
+    int count = 0;
+    for (int64_t b = std::max<int64_t>(j - kLevelBox, 0); b <= std::min(j + kLevelBox, py - 1); ++b)
+      for (int64_t a = std::max<int64_t>(i - kLevelBox, 0); a <= std::min(i + kLevelBox, px - 1); ++a, ++count)
+        sum += field[a + px * b + n * pk];
+    return sum / double(count);
+  };
   // The height from the partial volume, in slices from `from`'s plane toward `to`'s:
   // the slab of `from` spans [-1/2, 1/2] and `to`'s [1/2, 3/2]; the column is inside
   // from below -1/2 up to the surface, so the grey of the two slabs says how far: the
@@ -171,7 +186,7 @@ std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) {
     for (size_t k = 0; k < n_ids; ++k)
       if (!from.mask[size_t(ids[k])] || to.mask[size_t(ids[k])]) return -1.0;
     const double g_from = box_mean(from.pk, i, j), g_to = box_mean(to.pk, i, j);
-    const double g_in = box_mean(behind, i, j), g_out = box_mean(beyond, i, j);
+    const double g_in = level_mean(behind, i, j), g_out = level_mean(beyond, i, j);
     const double contrast = g_in - g_out, slack = kLevelSlack * contrast;
     if (!(g_in > 0 && g_out < 0)) return -1.0;
     // One level behind (two slabs alike), one beyond, and the two slabs between them.

@@ -35,9 +35,9 @@ namespace mpumesh::pts {
 struct PointOptions {
   bool caps = true;
   // Cap heights from the grey of the two slabs the surface crosses (partial volume) where
-  // the column allows it, else from the contours alone. Off by default: on a 6 mm ball in
-  // 2 mm slices its truer surface leaves the particle count 1.45 times the one asked.
-  bool partial_volume_caps = false;
+  // the column allows it, else from the contours alone (a ruled surface). On the capsule
+  // phantom the cap points lie 0.076 mm from the true caps, against 0.363 mm ruled.
+  bool partial_volume_caps = true;
   // Where the field, linear between the two slices, crosses zero below the mid-plane, a
   // cap rises no further than that crossing: a quarter slice toward another label in a
   // label map's indicator (seg/label_map.h), where toward the background the crossing is

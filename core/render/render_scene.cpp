@@ -154,7 +154,9 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
     estimate_mesh_curvature(est);
   }
   const auto& normals = have_normals ? mesh.normals : est.normals;
-  const auto& curvature = have_curv ? mesh.curvature : est.curvature;
+  // K at the mesh's own scale (surface_attributes.h): the bends its spacing follows.
+  std::vector<double> gauss;
+  if (opt.color == ColorBy::kCurvature) gauss = gauss_at_mesh_scale(have_curv ? mesh : est);
 
   // Values per corner and the colour range.
   std::vector<float> corner(mesh.triangles.size() * 3, 0.0f);
@@ -164,7 +166,7 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
     const auto& t = mesh.triangles[f];
     const Eigen::Vector3d p[3] = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
     if (opt.color == ColorBy::kCurvature) {
-      for (int c = 0; c < 3; ++c) corner[f * 3 + size_t(c)] = curvature[t[size_t(c)]][2];
+      for (int c = 0; c < 3; ++c) corner[f * 3 + size_t(c)] = float(gauss[t[size_t(c)]]);
     } else if (opt.color == ColorBy::kMinAngle) {
       double m = 180;
       for (int c = 0; c < 3; ++c) {
@@ -179,10 +181,10 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
     }
   }
   if (opt.color == ColorBy::kCurvature) {
-    for (const auto& k : curvature) sample.push_back(std::abs(double(k[2])));
+    for (double k : gauss) sample.push_back(std::abs(k));
     const double q = std::max(percentile(sample, 0.95), 1e-9);
-    lg = {true, std::string("Gaussian curvature K (1/mm^2)") + (have_curv ? "" : ", estimated from the mesh"), -q, q,
-          RENDER_CMAP_DIVERGING};
+    lg = {true, std::string("Gaussian curvature K (1/mm^2) at the spacing") + (have_curv ? "" : ", estimated from the mesh"),
+          -q, q, RENDER_CMAP_DIVERGING};
   } else if (opt.color == ColorBy::kMinAngle) {
     lg = {true, "smallest angle of each triangle (degrees)", 0, 60, RENDER_CMAP_SEQUENTIAL};
   } else if (opt.color == ColorBy::kEdgeLength) {

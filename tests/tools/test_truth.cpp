@@ -1,7 +1,14 @@
 // The product at its defaults on the CT-like phantoms (core/phantom), scored against the
 // closed form from the mesh file it writes, as mpumesh_bench_truth scores it. The
-// targets are stated once, below; each phantom asserts those its defaults meet (the
-// README's accuracy table gives every figure, and which targets are not met yet).
+// targets are stated once, below, and every phantom meets every one that its shape gives
+// a meaning to:
+// - the rank correlation of K with the true K on the shapes whose K varies smoothly (the
+//   ellipsoid and the torus). The capsule's true K takes two values (0 on the barrel,
+//   1/r² on the caps), and against such a variable Spearman's correlation is at most
+//   √(3 p (1 - p)) with p the caps' share of the vertices (0.866 at p = 1/2), however
+//   well the two parts are told apart; its parts' K are asserted instead. The shell's is
+//   constant on each sphere: its K error is asserted;
+// - the spacing against the true |K| where |K| varies (not on the shell's two spheres).
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -52,51 +59,62 @@ Scored mesh_phantom(const std::string& name) {
   return r;
 }
 
-void expect_count_and_distance(const Scored& s) {
+// Count, distance and normals, on every phantom.
+void expect_count_distance_and_normals(const Scored& s) {
   EXPECT_GE(s.ours.triangles, kTarget.min_triangles);
   EXPECT_LE(s.ours.triangles, kTarget.max_triangles);
   EXPECT_LE(s.ours.distance_mean, kTarget.distance_over_pixel * s.pixel);
   EXPECT_LT(s.ours.distance_mean, s.mc.distance_mean);
-  EXPECT_LT(s.ours.normal_mean_deg, s.mc.normal_mean_deg / 2);
+  EXPECT_LE(s.ours.normal_mean_deg, kTarget.normal_mean_deg);
+  EXPECT_LE(s.ours.normal_p95_deg, kTarget.normal_p95_deg);
   EXPECT_TRUE(s.ours.curvature_from_file);
+}
+
+void expect_curvature(const Scored& s) {
+  EXPECT_GE(s.ours.gauss_rank, kTarget.gauss_rank);
+  EXPECT_LE(s.ours.gauss_median_error, kTarget.gauss_error);
+}
+
+void expect_adaptivity(const Scored& s) {
+  EXPECT_LE(s.ours.spacing_high_low, kTarget.spacing_high_low);
+  EXPECT_LE(s.ours.spacing_rank, kTarget.spacing_rank);
 }
 
 TEST(Truth, EllipsoidMeetsEveryTarget) {
   const Scored s = mesh_phantom("ellipsoid");
-  expect_count_and_distance(s);
-  EXPECT_LE(s.ours.normal_mean_deg, kTarget.normal_mean_deg);
-  EXPECT_LE(s.ours.normal_p95_deg, kTarget.normal_p95_deg);
-  EXPECT_GE(s.ours.gauss_rank, kTarget.gauss_rank);
-  EXPECT_LE(s.ours.gauss_median_error, kTarget.gauss_error);
-  EXPECT_LE(s.ours.spacing_high_low, kTarget.spacing_high_low);
-  EXPECT_LE(s.ours.spacing_rank, kTarget.spacing_rank);
+  expect_count_distance_and_normals(s);
+  expect_curvature(s);
+  expect_adaptivity(s);
   // The tolerance came from the scan, and the report says so.
   EXPECT_NEAR(s.report["fit"]["eps_mm"].get<double>(), 0.5, 1e-9);
   EXPECT_NE(s.report["fit"]["eps_source"].get<std::string>().find("in-plane voxel"), std::string::npos);
 }
 
-TEST(Truth, TorusCurvatureAndDistance) {
+TEST(Truth, TorusMeetsEveryTarget) {
   const Scored s = mesh_phantom("torus");
-  expect_count_and_distance(s);
-  EXPECT_GE(s.ours.gauss_rank, kTarget.gauss_rank);
-  EXPECT_LE(s.ours.gauss_median_error, kTarget.gauss_error);
+  expect_count_distance_and_normals(s);
+  expect_curvature(s);
+  expect_adaptivity(s);
 }
 
 TEST(Truth, CapsuleCapsAndBarrel) {
   const Scored s = mesh_phantom("capsule");
-  expect_count_and_distance(s);
+  expect_count_distance_and_normals(s);
   EXPECT_LE(s.ours.gauss_median_error, kTarget.gauss_error);
-  EXPECT_LE(s.ours.spacing_rank, kTarget.spacing_rank);
-  // K of each part within 20% (of the caps' K = 1/r², for the barrel's zero as well).
+  expect_adaptivity(s);
+  // K of each part within 20% (of the caps' K = 1/r², for the barrel's zero as well), and
+  // the caps spaced at most 0.6 times as far apart as the barrel.
   const double caps = 0.01;
   EXPECT_NEAR(s.ours.cap_gauss, caps, kTarget.part_gauss * caps);
   EXPECT_NEAR(s.ours.barrel_gauss, 0, kTarget.part_gauss * caps);
-  EXPECT_LT(s.ours.cap_spacing, s.ours.barrel_spacing);
+  EXPECT_LE(s.ours.cap_spacing, kTarget.spacing_high_low * s.ours.barrel_spacing);
 }
 
+// Two spheres 2.5 mm apart: a plate thinner than the fit's balls (two-sheet leaves).
 TEST(Truth, ThinShell) {
   const Scored s = mesh_phantom("shell");
-  expect_count_and_distance(s);
+  expect_count_distance_and_normals(s);
+  EXPECT_LE(s.ours.gauss_median_error, kTarget.gauss_error);
 }
 
 }  // namespace
