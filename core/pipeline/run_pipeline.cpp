@@ -215,10 +215,11 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run, *mesh);
   r.points = cloud.size();
   // By default from a volume the count follows the surface (particles/particle_system.h):
-  // 0.6 to 1.4 particles a point on the phantoms and the sample CT; 1.5 is the estimate.
+  // 0.61 particles a point on the sample CT, 0.38 on it at full resolution, up to 1.4 on
+  // the small phantoms; one a point is the estimate.
   const bool count_follows = scan && options.sample.particles == 0 && options.sample.spacing == 0;
-  const int64_t asked = count_follows ? std::max(particles::kDefaultParticles, int64_t(1.5 * double(cloud.size())))
-                                      : asked_particles(options);
+  const int64_t asked =
+      count_follows ? std::max(particles::kDefaultParticles, int64_t(cloud.size())) : asked_particles(options);
   r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked);
   check_memory(input, r.memory_estimate);
   r.fit_options = run.opt.fit;
