@@ -92,9 +92,9 @@ std::vector<double> VulkanBackend::mpu_f(const mpu::MpuSurface& s, const std::ve
 
 // The particle calls add to the kernel times, so that a whole sampling run's show.
 void VulkanBackend::particle_project(const mpu::MpuSurface& s, particles::ParticleState& st,
-                                     const particles::StepParams& p) {
+                                     const particles::StepParams& p, bool with_curvature) {
   if (!particles_) particles_ = std::make_unique<ParticleKernel>(ctx_);
-  particles_->project(resident(s), st, p, kernel_ms_);
+  particles_->project(resident(s), st, p, with_curvature, kernel_ms_);
 }
 
 std::vector<double> VulkanBackend::thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,

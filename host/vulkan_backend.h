@@ -30,7 +30,8 @@ class VulkanBackend : public ComputeBackend {
   // run upload it once.
   std::vector<mpu::EvalRow> mpu_eval(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) override;
   std::vector<double> mpu_f(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) override;
-  void particle_project(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p) override;
+  void particle_project(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p,
+                        bool with_curvature) override;
   std::vector<double> thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,
                                 const std::vector<Eigen::Vector3d>& n, const std::vector<double>& max_dist) override;
   void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p,

@@ -144,6 +144,23 @@ void add_summary(report::HtmlPage& page, const nlohmann::json& run) {
             "surface's thin plates, so the particles were sampled again{}.",
             count(r, "repair_points"), count(r, "particles"), again)));
       }
+  if (run.is_object() && run.contains("optimization") && run["optimization"].is_object() &&
+      count(run["optimization"], "rounds") > 0) {
+    const auto& o = run["optimization"];
+    const auto figure = [](const nlohmann::json& part, const char* key) {
+      return part.is_object() && part.contains(key) && part[key].is_number() ? part[key].get<double>() : NAN;
+    };
+    const nlohmann::json none = nlohmann::json::object();
+    const auto& b = o.contains("before") ? o["before"] : none;
+    const auto& a = o.contains("after") ? o["after"] : none;
+    page.paragraph(report::escape_html(fmt::format(
+        "Mesh optimisation: {} rounds of Delaunay flips and centroidal relaxation on the surface ({} flips, {} moves, "
+        "{:.2f} s): smallest angle {:.1f}° before, {:.1f}° after; triangles under 30° {:.2f}% before, {:.2f}% after; "
+        "mean radius ratio {:.3f} before, {:.3f} after.",
+        count(o, "rounds"), count(o, "flips"), count(o, "moves"), figure(o, "seconds"), figure(b, "min_angle_deg"),
+        figure(a, "min_angle_deg"), figure(b, "pct_below_30_deg"), figure(a, "pct_below_30_deg"),
+        figure(b, "radius_ratio_mean"), figure(a, "radius_ratio_mean"))));
+  }
   if (run.is_object() && run.contains("components_filter") && run["components_filter"].is_object()) {
     const auto& c = run["components_filter"];
     std::string text = fmt::format("Structures kept: {} (", count(c, "kept"));
@@ -346,7 +363,7 @@ void add_stage_times(report::HtmlPage& page, const nlohmann::json& run) {
 
 void add_parameters(report::HtmlPage& page, const nlohmann::json& run) {
   nlohmann::json params = nlohmann::json::object();
-  for (const char* key : {"segmentation", "fit", "particles", "triangulation"})
+  for (const char* key : {"segmentation", "fit", "particles", "triangulation", "optimization"})
     if (run.contains(key)) {
       params[key] = run[key];
       if (params[key].is_object()) params[key].erase("history");

@@ -51,6 +51,11 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
                               "is given, 0 when one is",
                               pipeline::kRaise))
       ->check(CLI::Range(0, 8));
+  cmd->add_option("--optimize-rounds", o.optimize_rounds,
+                  "rounds of mesh optimisation after the triangulation (Delaunay flips and centroidal relaxation on "
+                  "the surface); 0: none")
+      ->check(CLI::Range(0, 50))
+      ->capture_default_str();
   add_component_options(cmd, o.components);
   add_backend_options(cmd, o.backend);
   cmd->add_option("--threads", o.threads, "use at most this many threads (default: every core)")
@@ -113,6 +118,7 @@ pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common) {
   r.fit = o.fit;
   r.sample = o.sample;
   r.count_retries = o.count_retries;
+  r.optimize.rounds = o.optimize_rounds;
   r.components = o.components;
   r.quality = !o.report.empty() || common.json || !common.quiet;
   r.quality_options.self_intersections = o.self_intersections;
@@ -161,6 +167,13 @@ nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeli
                       {"next_requested_spacing_mm", c.next_requested_spacing_mm}});
   j["particles"]["count_raises"] = raises;
   j["triangulation"] = triangulation_json(r.triangulation);
+  const auto shape = [](const ShapeFigures& f) {
+    return nlohmann::json{{"min_angle_deg", f.min_angle_deg}, {"pct_below_30_deg", f.pct_below_30}, {"radius_ratio_mean", f.radius_ratio}};
+  };
+  const OptimizeStats& op = r.optimization;
+  j["optimization"] = {{"rounds", op.rounds},     {"flips", op.flips},   {"moves", op.moves},
+                       {"retries", op.retries},   {"frozen", op.frozen}, {"seconds", op.seconds},
+                       {"before", shape(op.before)}, {"after", shape(op.after)}};
   j["backend"] = backend_json(choice);
   j["kernel_ms"] = choice.backend->kernel_ms();
   j["output"] = output;

@@ -27,6 +27,7 @@ struct RunCli {
   BackendOptions backend;
   bool self_intersections = true, ruled_caps = false;
   int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
+  int optimize_rounds = OptimizeOptions{}.rounds;
   ComponentFilter components;
   int64_t label = 0;   // --label
   std::string labels;  // --labels: "all" or a list

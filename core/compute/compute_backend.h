@@ -49,10 +49,11 @@ class ComputeBackend {
   // f alone at each point (mpu::evaluate_f; computed in float32 on a GPU).
   virtual std::vector<double> mpu_f(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points) = 0;
 
-  // Each particle moved onto f = 0 by p.newton_steps Newton steps, with its normal,
-  // distance and curvature there: particles::project_step with the curvature.
+  // Each particle moved onto f = 0 by p.newton_steps Newton steps, with its normal and
+  // distance there, and its curvature when with_curvature (else zeros):
+  // particles::project_step.
   virtual void particle_project(const mpu::MpuSurface& s, particles::ParticleState& st,
-                                const particles::StepParams& p) = 0;
+                                const particles::StepParams& p, bool with_curvature) = 0;
 
   // particles::local_thickness(s, x[i], n[i], max_dist[i]) for every i.
   virtual std::vector<double> thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,

@@ -58,8 +58,8 @@ std::vector<double> CpuBackend::mpu_f(const mpu::MpuSurface& s, const std::vecto
 }
 
 void CpuBackend::particle_project(const mpu::MpuSurface& s, particles::ParticleState& st,
-                                  const particles::StepParams& p) {
-  particles::project_step(s, st, p, true);
+                                  const particles::StepParams& p, bool with_curvature) {
+  particles::project_step(s, st, p, with_curvature);
 }
 
 std::vector<double> CpuBackend::thickness(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& x,

@@ -6,6 +6,8 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
 
+#include <tbb/enumerable_thread_specific.h>
+
 #include <iterator>
 
 #include "common/error.h"
@@ -22,7 +24,7 @@ Point to_cgal(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
 }  // namespace
 
 std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const TriangleMesh& mesh,
-                                                                 const std::vector<uint32_t>* among) {
+                                                                 const std::vector<uint32_t>* among, bool adjacent) {
   // CGAL 5.5 (Debian 12) has no triangle-soup variant of PMP::self_intersections, and the
   // meshes measured here may be non-manifold; so: bounding-box pairs, then exact
   // predicates by how many vertices the two triangles share, as PMP does internally.
@@ -42,7 +44,9 @@ std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const Triangle
     return boxes;
   };
   std::vector<Box> boxes = make_boxes([](size_t k) { return k; }, mesh.triangles.size());
-  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  // The box pairs are found on every core (CGAL's Parallel_tag), each thread's hits apart,
+  // then put in order: the same pairs whatever the threads.
+  tbb::enumerable_thread_specific<std::vector<std::pair<uint32_t, uint32_t>>> found;
   auto test = [&](const Box& ba, const Box& bb) {
     if (ba.handle() == bb.handle()) return;
     const auto& a = mesh.triangles[ba.handle()];
@@ -55,6 +59,7 @@ std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const Triangle
           ia = i;
           ib = j;
         }
+    if (shared > 0 && !adjacent) return;
     const Triangle ta(pts[a[0]], pts[a[1]], pts[a[2]]), tb(pts[b[0]], pts[b[1]], pts[b[2]]);
     bool hit = false;
     if (shared == 0) {
@@ -78,17 +83,30 @@ std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const Triangle
     } else {
       hit = true;  // the same triangle twice
     }
-    if (hit) pairs.emplace_back(uint32_t(std::min(ba.handle(), bb.handle())), uint32_t(std::max(ba.handle(), bb.handle())));
+    if (hit)
+      found.local().emplace_back(uint32_t(std::min(ba.handle(), bb.handle())), uint32_t(std::max(ba.handle(), bb.handle())));
   };
-  if (!among) {
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), test);
+  // Listing most triangles, the whole mesh against itself is the faster search (the
+  // listed ones against all of them runs the box search both ways); its pairs are then
+  // kept where they hold a listed triangle.
+  std::vector<char> listed;
+  if (among && 2 * among->size() > mesh.triangles.size()) {
+    listed.assign(mesh.triangles.size(), 0);
+    for (uint32_t f : *among) listed[f] = 1;
+  }
+  if (!among || !listed.empty()) {
+    CGAL::box_self_intersection_d<CGAL::Parallel_tag>(boxes.begin(), boxes.end(), test);
   } else {
     std::vector<Box> some = make_boxes([&](size_t k) { return size_t((*among)[k]); }, among->size());
-    CGAL::box_intersection_d(some.begin(), some.end(), boxes.begin(), boxes.end(), test);
-    // A pair of two listed triangles is reported twice (once from each side).
-    std::sort(pairs.begin(), pairs.end());
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    CGAL::box_intersection_d<CGAL::Parallel_tag>(some.begin(), some.end(), boxes.begin(), boxes.end(), test);
   }
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (const auto& part : found)
+    for (const auto& p : part)
+      if (listed.empty() || listed[p.first] || listed[p.second]) pairs.push_back(p);
+  // A pair of two listed triangles is reported twice (once from each side).
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   return pairs;
 }
 

@@ -13,10 +13,12 @@ namespace mpumesh {
 // Pairs of triangles that intersect other than through shared vertices or edges
 // (CGAL Polygon_mesh_processing::self_intersections on the triangle soup).
 int64_t count_self_intersections(const TriangleMesh& mesh);
-// The intersecting pairs (i < j) themselves; with `among`, only pairs in which at least one
-// triangle is listed.
+// The intersecting pairs (i < j) themselves, in order; with `among`, only pairs in which at
+// least one triangle is listed; without `adjacent`, only pairs that share no vertex (those
+// that share one can cross only where the mesh folds onto itself).
 std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const TriangleMesh& mesh,
-                                                                 const std::vector<uint32_t>* among = nullptr);
+                                                                 const std::vector<uint32_t>* among = nullptr,
+                                                                 bool adjacent = true);
 
 // Pairs (triangle of `a`, triangle of `b`) that meet, sorted: two meshes that should not
 // touch, such as two labels' surfaces.

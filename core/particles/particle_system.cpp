@@ -23,8 +23,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
-// σ at which six neighbours at distance s give Ê = 0.8 μ: 12 exp(-s²/2σ²) = 0.8.
-const double kSpacingPerSigma = std::sqrt(2 * std::log(15.0));
+const double kSpacingPerSigma = spacing_per_sigma();
 // Area per point of a maximal Poisson-disk sample of radius r (random order, 2D): 1.436 r²;
 // of a hexagonal sample of spacing s: 0.866 s². So a Poisson-disk radius of s / 1.29
 // gives about the density of spacing s.
@@ -383,7 +382,7 @@ void Sampler::make_pool() {
     }
     StepParams proj = opt.step;
     proj.newton_steps = 8;
-    backend.particle_project(s, pool, proj);
+    backend.particle_project(s, pool, proj, false);
     check_finite(pool, 0, backend.device() + " (seeding)");
     // Keep those that reached the surface near where they started.
     std::vector<size_t> reached;
@@ -559,7 +558,7 @@ void Sampler::seed() {
   {
     StepParams proj = opt.step;
     proj.newton_steps = 8;
-    backend.particle_project(s, st, proj);
+    backend.particle_project(s, st, proj, false);
     check_finite(st, 0, backend.device() + " (seeding)");
   }
   // Keep those that reached the surface near where they started (as the pool's), and of

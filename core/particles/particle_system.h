@@ -77,6 +77,11 @@ struct SampleOptions {
   StepParams step;
 };
 
+// The spacing s whose six neighbours give a particle of radius σ the desired energy
+// Ê = 0.8 μ (12 exp(-s²/2σ²) = 0.8): a target radius σ̂ (ParticleState::target) asks for
+// a spacing of σ̂ times this.
+inline double spacing_per_sigma() { return std::sqrt(2 * std::log(15.0)); }
+
 // Throws InputError naming the option as `command` spells it (run calls the iteration cap
 // --particle-iterations).
 // Throws NumericalError naming the iteration and the device when a particle's position,

@@ -12,6 +12,7 @@
 #include "common/text.h"
 #include "io/mesh_io.h"
 #include "io/volume_io.h"
+#include "common/kd_tree.h"
 #include "mc/marching_cubes.h"
 #include "mesh/surface_attributes.h"
 #include "mesh/topology.h"
@@ -160,6 +161,33 @@ void sample_and_triangulate(Run& run, const PointCloud& cloud) {
   r.sparse = too_sparse(r.triangulation, r.particles.size());
 }
 
+// Each vertex's target spacing: that of the particle nearest to it (a repair point's is
+// its neighbourhood's).
+std::vector<double> vertex_spacing(const TriangleMesh& mesh, const particles::ParticleState& p) {
+  PointsAdaptor adaptor{&p.x};
+  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
+  tree.buildIndex();
+  std::vector<double> s(mesh.vertices.size());
+  tbb::parallel_for(size_t(0), s.size(), [&](size_t v) {
+    uint32_t i = 0;
+    double d2 = 0;
+    nanoflann::KNNResultSet<double, uint32_t> rs(1);
+    rs.init(&i, &d2);
+    tree.findNeighbors(rs, mesh.vertices[v].data(), nanoflann::SearchParams());
+    s[v] = p.target[i] * particles::spacing_per_sigma();
+  });
+  return s;
+}
+
+// The mesh optimisation (mesh/mesh_optimize.h), on the backend.
+void optimize(Run& run) {
+  RunResult& r = run.r;
+  if (run.opt.optimize.rounds <= 0 || r.particles.size() == 0) return;
+  run.obs.begin("optimize");
+  r.optimization = optimize_mesh(r.mesh, r.surface, *run.backend, vertex_spacing(r.mesh, r.particles), run.opt.optimize);
+  run.obs.end();
+}
+
 // The mesh must be a closed oriented manifold with finite vertices and normals; it gets
 // the surface's normals and curvatures.
 void attach_and_check(Run& run) {
@@ -225,6 +253,7 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   r.fit_options = run.opt.fit;
   r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, run.opt.fit, &r.fit); });
   sample_and_triangulate(run, cloud);
+  optimize(run);
   attach_and_check(run);
   if (options.components.active()) keep_components(run);
   if (options.quality) {

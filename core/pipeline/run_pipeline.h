@@ -2,8 +2,8 @@
 // CT/MR volume (or a closed surface mesh, to remesh it) to a closed, oriented, adaptive
 // mesh on the fitted MPU surface. Its stages, in order:
 //   read -> segment (volumes) -> points -> fit -> sample and triangulate (sampling again
-//   with more particles while the triangulation shows the sample too sparse) -> surface
-//   attributes -> checks -> the components kept (optional) -> quality (optional) -> the
+//   with more particles while the triangulation shows the sample too sparse) -> optimise
+//   the mesh -> surface attributes -> checks -> the components kept (optional) -> quality (optional) -> the
 //   report's baselines (optional).
 // Writing the outputs, and turning the result into text, JSON and HTML, are the caller's.
 #pragma once
@@ -17,6 +17,7 @@
 
 #include "compute/compute_backend.h"
 #include "mesh/component_filter.h"
+#include "mesh/mesh_optimize.h"
 #include "mesh/quality.h"
 #include "mesh/restricted_delaunay.h"
 #include "geometry/triangle_mesh.h"
@@ -51,6 +52,7 @@ struct RunOptions {
   // points for more than a tenth of them, up to this many times; -1: 2 when neither a
   // count nor a spacing is given, else 0.
   int count_retries = -1;
+  OptimizeOptions optimize;  // the mesh optimisation after the triangulation (rounds 0: none)
   ComponentFilter components;  // the structures to keep (--largest, --min-volume)
   bool quality = true;  // measure the mesh's quality (RunResult::quality)
   QualityOptions quality_options;
@@ -100,6 +102,7 @@ struct RunResult {
   std::map<std::string, double> particle_kernel_ms;  // the particle kernels' device times
   std::vector<CountRaise> raises;
   RestrictedDelaunayStats triangulation;
+  OptimizeStats optimization;
   TriangleMesh mesh;
   int64_t components_kept = 0;               // when RunOptions::components is active
   std::vector<DroppedComponent> components_dropped;

@@ -63,7 +63,7 @@ abi::ParticlePush surface_push(const MpuDeviceSurface& s, size_t n) {
 }  // namespace
 
 void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
-                             std::map<std::string, double>& kernel_ms) {
+                             bool with_curvature, std::map<std::string, double>& kernel_ms) {
   const size_t n = st.size();
   if (n == 0) return;
   const VkDeviceSize v4 = n * sizeof(abi::vec4);
@@ -76,7 +76,7 @@ void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState
   b_in.upload(in.data(), v4);
   abi::ParticlePush push = surface_push(s, n);
   push.newton_steps = uint32_t(std::max(p.newton_steps, 1));
-  push.curvature = 1;
+  push.curvature = with_curvature ? 1 : 0;
   const Grid grid = grid_for(ctx_, n, project_.workgroup_size());
   push.row = grid.row;
   Recorder rec(ctx_);
@@ -91,7 +91,7 @@ void ParticleKernel::project(const MpuDeviceSurface& s, particles::ParticleState
     st.x[i] = Eigen::Vector3d(pos[i].x, pos[i].y, pos[i].z) + s.origin;
     st.normal[i] = Eigen::Vector3d(nrm[i].x, nrm[i].y, nrm[i].z);
     st.distance[i] = nrm[i].w;
-    st.curv[i] = {curv[i].x, curv[i].y, curv[i].z, curv[i].w};
+    st.curv[i] = with_curvature ? mpu::Curvature{curv[i].x, curv[i].y, curv[i].z, curv[i].w} : mpu::Curvature{};
   }
 }
 

@@ -19,9 +19,9 @@ class ParticleKernel {
   explicit ParticleKernel(Context& ctx);
   void run(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p, int iterations,
            std::map<std::string, double>& kernel_ms);
-  // particle_step_project.comp alone, with the curvature: particles::project_step.
+  // particle_step_project.comp alone, with the curvature when asked: particles::project_step.
   void project(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
-               std::map<std::string, double>& kernel_ms);
+               bool with_curvature, std::map<std::string, double>& kernel_ms);
   // particle_step_thickness.comp: particles::local_thickness for every point.
   std::vector<double> thickness(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& x,
                                 const std::vector<Eigen::Vector3d>& n, const std::vector<double>& max_dist,

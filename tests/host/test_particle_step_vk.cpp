@@ -128,8 +128,8 @@ TEST(ParticlesVk, ProjectionMatchesTheReference) {
   ParticleState b = a;
   particles::StepParams p;
   p.newton_steps = 8;
-  cpu.particle_project(f.surface, a, p);
-  gpu->particle_project(f.surface, b, p);
+  cpu.particle_project(f.surface, a, p, true);
+  gpu->particle_project(f.surface, b, p, true);
   test::expect_no_validation_messages(*gpu);
   double dx = 0, dd = 0, dn = 0, dK = 0, truth = 0;
   for (size_t i = 0; i < a.size(); ++i) {

@@ -58,7 +58,7 @@ TEST(Pipeline, RunsItsStagesInOrderAndOpensTheBackendOnce) {
   EXPECT_EQ(opened, 1);
   EXPECT_EQ(rec.open, 0);
   EXPECT_EQ(rec.stages, (std::vector<std::string>{"read volume", "segment", "points", "marching cubes (report)", "fit",
-                                                  "particles", "triangulate", "curvature", "quality",
+                                                  "particles", "triangulate", "optimize", "curvature", "quality",
                                                   "original MPU (report)"}));
   ASSERT_EQ(r.baselines.size(), 2u);
   EXPECT_EQ(r.baselines[0].first, "marching cubes");

@@ -1,0 +1,272 @@
+#include "mesh/mesh_optimize.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "mesh/cgal_geometry.h"
+#include "mesh/quality.h"
+#include "mpu/mpu_eval_ref.h"
+#include "particles/particle_step_ref.h"
+
+namespace mpumesh {
+namespace {
+
+using Tri = std::array<uint32_t, 3>;
+
+Eigen::Vector3d area_normal(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
+  return (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
+}
+
+// The angle at a of the triangle abc (radians).
+double angle_at(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d u = b - a, v = c - a;
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
+std::vector<std::vector<uint32_t>> vertex_faces(const TriangleMesh& m) {
+  std::vector<std::vector<uint32_t>> vf(m.vertices.size());
+  for (uint32_t f = 0; f < m.triangles.size(); ++f)
+    for (uint32_t v : m.triangles[f]) vf[v].push_back(f);
+  return vf;
+}
+
+uint64_t edge_key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
+
+// The distance of each point from the surface: |f| (on the backend), which is about the
+// distance in mm near f = 0 (mpu_surface.h).
+std::vector<double> surface_distances(const mpu::MpuSurface& s, ComputeBackend& backend,
+                                      const std::vector<Eigen::Vector3d>& p) {
+  std::vector<double> d = backend.mpu_f(s, p);
+  for (double& v : d) v = std::abs(v);
+  return d;
+}
+
+struct Flip {
+  uint32_t f1, f2;
+  Tri old1, old2;
+};
+
+// The flips of one pass (see the header), applied; returns them.
+std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  auto& T = m.triangles;
+  const auto& x = m.vertices;
+  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> edges;  // key -> faces (second: UINT32_MAX)
+  edges.reserve(T.size() * 2);
+  for (uint32_t f = 0; f < T.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      auto [it, fresh] = edges.try_emplace(edge_key(T[f][size_t(k)], T[f][size_t((k + 1) % 3)]), f, UINT32_MAX);
+      if (!fresh) it->second.second = f;
+    }
+  struct Candidate {
+    uint32_t f1, f2;
+    Tri n1, n2;
+    uint64_t new_edge;
+  };
+  std::vector<Candidate> cand;
+  std::vector<Eigen::Vector3d> mids;
+  const double cos_flat = std::cos(opt.max_flip_dihedral_deg * M_PI / 180);
+  std::vector<uint64_t> keys;
+  keys.reserve(edges.size());
+  for (const auto& [key, faces] : edges) keys.push_back(key);
+  std::sort(keys.begin(), keys.end());  // a fixed order, whatever the hash table's
+  for (uint64_t key : keys) {
+    const auto [f1, f2] = edges[key];
+    if (f2 == UINT32_MAX) continue;
+    // f1 holds the edge as a -> b; f2 as b -> a.
+    const Tri& t1 = T[f1];
+    int k = 0;
+    while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
+    const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
+    const Tri& t2 = T[f2];
+    uint32_t d = UINT32_MAX;
+    for (uint32_t v : t2)
+      if (v != a && v != b) d = v;
+    if (d == UINT32_MAX || c == d || edges.count(edge_key(c, d))) continue;
+    if (frozen[a] || frozen[b] || frozen[c] || frozen[d]) continue;
+    if (angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9) continue;  // Delaunay already
+    const Tri n1 = {a, d, c}, n2 = {b, c, d};
+    const Eigen::Vector3d o = (area_normal(x, t1).normalized() + area_normal(x, t2).normalized());
+    const Eigen::Vector3d m1 = area_normal(x, n1).normalized(), m2 = area_normal(x, n2).normalized();
+    if (!(m1.dot(m2) >= cos_flat) || !(m1.dot(o) > 0) || !(m2.dot(o) > 0)) continue;
+    cand.push_back({f1, f2, n1, n2, edge_key(c, d)});
+    mids.push_back(0.5 * (x[a] + x[b]));
+    mids.push_back(0.5 * (x[c] + x[d]));
+  }
+  const std::vector<double> dist = surface_distances(s, backend, mids);
+  std::vector<char> locked(T.size(), 0);
+  std::unordered_set<uint64_t> made;
+  std::vector<Flip> done;
+  for (size_t i = 0; i < cand.size(); ++i) {
+    const Candidate& c = cand[i];
+    if (locked[c.f1] || locked[c.f2] || made.count(c.new_edge)) continue;
+    const double len = (x[c.n1[2]] - x[c.n1[1]]).norm();  // c - d
+    if (!(dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len))) continue;
+    done.push_back({c.f1, c.f2, T[c.f1], T[c.f2]});
+    T[c.f1] = c.n1;
+    T[c.f2] = c.n2;
+    locked[c.f1] = locked[c.f2] = 1;
+    made.insert(c.new_edge);
+  }
+  return done;
+}
+
+// The smallest angle (degrees) of the triangles `faces` with the vertices at x.
+double smallest_angle(const std::vector<Eigen::Vector3d>& x, const std::vector<Tri>& T,
+                      const std::vector<uint32_t>& faces) {
+  double m = 180;
+  for (uint32_t f : faces) m = std::min(m, triangle_min_angle_deg(x[T[f][0]], x[T[f][1]], x[T[f][2]]));
+  return m;
+}
+
+// Whether moving the vertices to `now` (from `was`) keeps v's triangles: none turns by
+// more than max_turn_deg, and the smallest angle around v does not fall, or stays above
+// min_keep_deg.
+bool move_keeps(const std::vector<Eigen::Vector3d>& was, const std::vector<Eigen::Vector3d>& now,
+                const std::vector<Tri>& T, const std::vector<uint32_t>& faces, const OptimizeOptions& opt) {
+  const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
+  for (uint32_t f : faces) {
+    const Eigen::Vector3d a = area_normal(was, T[f]), b = area_normal(now, T[f]);
+    if (!(b.norm() > 0) || !(a.normalized().dot(b.normalized()) >= cos_turn)) return false;
+  }
+  const double after = smallest_angle(now, T, faces);
+  return after >= opt.min_keep_deg || after >= smallest_angle(was, T, faces);
+}
+
+// One relaxation pass (see the header); returns the vertices that moved.
+std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                                 const std::vector<double>& spacing, const std::vector<std::vector<uint32_t>>& vf,
+                                 const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  const auto& T = m.triangles;
+  const std::vector<Eigen::Vector3d> was = m.vertices;
+  const size_t n = was.size();
+  // Each triangle's centroid and weight (area / s⁴, s its vertices' mean target).
+  std::vector<Eigen::Vector3d> centroid(T.size());
+  std::vector<double> weight(T.size());
+  tbb::parallel_for(size_t(0), T.size(), [&](size_t f) {
+    const Tri& t = T[f];
+    centroid[f] = (was[t[0]] + was[t[1]] + was[t[2]]) / 3;
+    const double sp = (spacing[t[0]] + spacing[t[1]] + spacing[t[2]]) / 3;
+    weight[f] = 0.5 * area_normal(was, t).norm() / (sp * sp * sp * sp);
+  });
+  // The centroids, within each vertex's tangent plane (the mean of its triangles'
+  // normals), then onto f = 0 on the backend.
+  particles::ParticleState st;
+  st.resize(n);
+  tbb::parallel_for(size_t(0), n, [&](size_t v) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero(), nrm = Eigen::Vector3d::Zero();
+    double w = 0;
+    for (uint32_t f : vf[v]) c += weight[f] * centroid[f], w += weight[f], nrm += area_normal(was, T[f]);
+    Eigen::Vector3d step = w > 0 ? Eigen::Vector3d(c / w - was[v]) : Eigen::Vector3d::Zero();
+    if (nrm.norm() > 0) nrm.normalize(), step -= step.dot(nrm) * nrm;
+    st.x[v] = was[v] + step;
+    st.sigma[v] = spacing[v];  // each Newton step moves at most this far
+  });
+  particles::StepParams p;
+  p.newton_steps = opt.newton_steps;
+  backend.particle_project(s, st, p, false);
+  std::vector<Eigen::Vector3d> now = was;
+  std::vector<char> moving(n, 0);
+  for (size_t v = 0; v < n; ++v)
+    if (!frozen[v] && std::isfinite(st.distance[v]) && st.x[v].allFinite() && std::abs(st.distance[v]) < 1e-3 * spacing[v])
+      now[v] = st.x[v], moving[v] = 1;
+  // Keep the moves that keep their triangles, against the others' new places; a move
+  // given up is tested against again by its neighbours, until none changes.
+  std::vector<uint32_t> retest;
+  for (uint32_t v = 0; v < n; ++v)
+    if (moving[v]) retest.push_back(v);
+  for (int loop = 0; loop < 8 && !retest.empty(); ++loop) {
+    std::vector<char> fail(retest.size(), 0);
+    tbb::parallel_for(size_t(0), retest.size(), [&](size_t k) {
+      const uint32_t v = retest[k];
+      fail[k] = moving[v] && !move_keeps(was, now, T, vf[v], opt);
+    });
+    std::vector<uint32_t> next;
+    for (size_t k = 0; k < retest.size(); ++k) {
+      if (!fail[k]) continue;
+      const uint32_t v = retest[k];
+      moving[v] = 0;
+      now[v] = was[v];
+      for (uint32_t f : vf[v])
+        for (uint32_t w : T[f])
+          if (moving[w]) next.push_back(w);
+    }
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end()), next.end());
+    retest.swap(next);
+  }
+  for (uint32_t v : retest) moving[v] = 0, now[v] = was[v];  // still undecided: stay
+  m.vertices = now;
+  std::vector<uint32_t> moved;
+  for (uint32_t v = 0; v < n; ++v)
+    if (moving[v]) moved.push_back(v);
+  return moved;
+}
+
+// The rounds, with the vertices `frozen` left as they are.
+void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
+                     const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen,
+                     OptimizeStats& st) {
+  st.rounds = 0, st.flips = 0, st.moves = 0;
+  for (int round = 0; round < opt.rounds; ++round) {
+    st.flips += int64_t(flip_pass(mesh, s, backend, opt, frozen).size());
+    st.moves += int64_t(relax_pass(mesh, s, backend, spacing, vertex_faces(mesh), opt, frozen).size());
+    ++st.rounds;
+  }
+}
+
+}  // namespace
+
+ShapeFigures shape_figures(const TriangleMesh& m) {
+  ShapeFigures s;
+  if (m.triangles.empty()) return s;
+  double sum_rr = 0, min_angle = 180;
+  int64_t below = 0;
+  for (const Tri& t : m.triangles) {
+    const double a = triangle_min_angle_deg(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    min_angle = std::min(min_angle, a);
+    below += a < 30;
+    sum_rr += triangle_radius_ratio(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+  }
+  s.min_angle_deg = min_angle;
+  s.pct_below_30 = 100.0 * double(below) / double(m.triangles.size());
+  s.radius_ratio = sum_rr / double(m.triangles.size());
+  return s;
+}
+
+OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
+                            const std::vector<double>& spacing, const OptimizeOptions& opt) {
+  const auto t0 = std::chrono::steady_clock::now();
+  OptimizeStats st;
+  st.before = shape_figures(mesh);
+  const TriangleMesh input = mesh;
+  // A flip or a move can make a triangle cross another (across a thin plate); such
+  // triangles are found once the rounds are done (exact predicates), and the rounds are
+  // done again with their vertices frozen; after three tries, none is kept.
+  std::vector<char> frozen(mesh.vertices.size(), 0);
+  for (int attempt = 0;; ++attempt) {
+    mesh = input;
+    optimize_rounds(mesh, s, backend, spacing, opt, frozen, st);
+    const auto pairs = intersecting_triangles(mesh);
+    if (pairs.empty()) break;
+    st.retries = attempt + 1;
+    if (attempt == 2) {
+      mesh = input;
+      st.rounds = 0, st.flips = 0, st.moves = 0;
+      break;
+    }
+    for (const auto& [a, b] : pairs)
+      for (uint32_t f : {a, b})
+        for (uint32_t v : mesh.triangles[f]) st.frozen += !frozen[v], frozen[v] = 1;
+  }
+  st.after = shape_figures(mesh);
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return st;
+}
+
+}  // namespace mpumesh

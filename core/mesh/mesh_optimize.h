@@ -1,0 +1,60 @@
+// Mesh optimisation after the triangulation (the paper's "further work"): the restricted
+// Delaunay mesh of the particles, made better shaped while its vertices stay on f = 0.
+// Each round
+// 1. flips every edge that is not locally Delaunay (its two opposite angles add up to
+//    more than π) where the two triangles are nearly coplanar (their normals within
+//    max_flip_dihedral_deg) and the new edge's midpoint lies no farther from the surface
+//    than the old one's, or than flip_offset of the edge's length;
+// 2. moves every vertex to the density-weighted centroid of its triangles' centroids (a
+//    centroidal Voronoi tessellation's step, Du, Faber and Gunzburger 1999, restricted to
+//    the surface; density 1 / s⁴ for a target spacing s, so that the particles' adaptive
+//    sizes stay), within the tangent plane, then back onto f = 0 by Newton steps on the
+//    compute backend (ComputeBackend::particle_project, as the particles are). A move is
+//    kept when no triangle around the vertex turns by more than max_turn_deg and the
+//    smallest angle around it does not fall (or stays at least min_keep_deg).
+// Triangles that then cross others (exact predicates, mesh/cgal_geometry.h) have their
+// vertices frozen and the rounds are done again; after three tries, the mesh is kept as
+// it was.
+// The mesh stays a closed oriented manifold: flips keep the link condition (the new edge
+// is no edge yet), and moves change no connectivity.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "compute/compute_backend.h"
+#include "geometry/triangle_mesh.h"
+#include "mpu/mpu_surface.h"
+
+namespace mpumesh {
+
+struct OptimizeOptions {
+  int rounds = 4;                     // 0: no optimisation
+  double max_flip_dihedral_deg = 30;  // the two triangles of a flipped edge
+  double flip_offset = 0.05;          // of the edge's length
+  double max_turn_deg = 30;           // a moved vertex's triangles
+  double min_keep_deg = 30;           // a move may lower a smallest angle that stays above this
+  int newton_steps = 3;
+};
+
+// The smallest angle, the share of triangles under 30° and the mean radius ratio.
+struct ShapeFigures {
+  double min_angle_deg = 0, pct_below_30 = 0, radius_ratio = 0;
+};
+ShapeFigures shape_figures(const TriangleMesh& m);
+
+struct OptimizeStats {
+  int rounds = 0;
+  int64_t flips = 0, moves = 0;   // over all rounds (a vertex moved in two rounds counts twice)
+  int retries = 0;                // rounds done again with frozen vertices (three: none kept)
+  int64_t frozen = 0;             // vertices frozen for that
+  ShapeFigures before, after;
+  double seconds = 0;
+};
+
+// `spacing`: each vertex's target spacing (mm). Throws nothing for a valid closed mesh; a
+// vertex whose projection fails (∇f vanishes) keeps its place.
+OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
+                            const std::vector<double>& spacing, const OptimizeOptions& opt = {});
+
+}  // namespace mpumesh

@@ -1,0 +1,116 @@
+// core/mesh/mesh_optimize: the restricted Delaunay mesh of uneven points on a fitted
+// ellipsoid, optimised: better shaped, still closed, oriented and of the same genus,
+// every vertex still on f = 0, no triangles crossing, and the same each time.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "cpu/cpu_backend.h"
+#include "mesh/cgal_geometry.h"
+#include "mesh/mesh_optimize.h"
+#include "mesh/restricted_delaunay.h"
+#include "mesh/topology.h"
+#include "mpu/mpu_eval_ref.h"
+#include "mpu/mpu_fit.h"
+#include "particles/particle_step_ref.h"
+#include "test_support.h"
+
+namespace mpumesh {
+namespace {
+
+struct Case {
+  test::AnalyticShape shape{test::AnalyticShape::kEllipsoid, 24, 16, 12};
+  mpu::MpuSurface surface;
+  TriangleMesh mesh;  // of jittered points: many poor triangles
+  std::vector<double> spacing;
+};
+
+const Case& ellipsoid() {
+  static const Case c = [] {
+    Case r;
+    r.surface = mpu::fit_mpu(test::sample_shape(r.shape, 0.5, 0.5, true), {});
+    std::mt19937 rng(5);
+    std::normal_distribution<double> jitter(0, 0.02);
+    std::vector<Eigen::Vector3d> points;
+    const int n = 2500;
+    for (int k = 0; k < n; ++k) {  // a Fibonacci spiral on the sphere, jittered, onto the ellipsoid
+      const double z = 1 - (2 * k + 1.0) / n, rho = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+      Eigen::Vector3d u(rho * std::cos(phi) + jitter(rng), rho * std::sin(phi) + jitter(rng), z + jitter(rng));
+      u.normalize();
+      Eigen::Vector3d p(r.shape.a * u.x(), r.shape.b * u.y(), r.shape.c * u.z());
+      particles::newton_project(r.surface, p, 8, 5.0);
+      points.push_back(p);
+    }
+    r.mesh = restricted_delaunay(r.surface, points);
+    double sum = 0;
+    int edges = 0;
+    for (const auto& t : r.mesh.triangles)
+      for (int e = 0; e < 3; ++e, ++edges) sum += (r.mesh.vertices[t[size_t(e)]] - r.mesh.vertices[t[size_t((e + 1) % 3)]]).norm();
+    r.spacing.assign(r.mesh.vertices.size(), sum / edges);
+    return r;
+  }();
+  return c;
+}
+
+TEST(MeshOptimize, MakesBetterTrianglesOnTheSameClosedSurface) {
+  const Case& c = ellipsoid();
+  TriangleMesh m = c.mesh;
+  CpuBackend cpu;
+  const OptimizeStats st = optimize_mesh(m, c.surface, cpu, c.spacing);
+  std::printf("before: smallest %.2f deg, %.2f%% under 30, radius ratio %.4f; after: %.2f, %.2f%%, %.4f; %lld flips, "
+              "%lld moves, %.3f s\n",
+              st.before.min_angle_deg, st.before.pct_below_30, st.before.radius_ratio, st.after.min_angle_deg,
+              st.after.pct_below_30, st.after.radius_ratio, (long long)st.flips, (long long)st.moves, st.seconds);
+  EXPECT_EQ(st.rounds, OptimizeOptions{}.rounds);
+  EXPECT_GT(st.flips, 0);
+  EXPECT_GT(st.before.pct_below_30, 5.0);  // the jittered points' mesh is poor
+  EXPECT_LT(st.after.pct_below_30, st.before.pct_below_30 / 5);
+  EXPECT_GT(st.after.radius_ratio, st.before.radius_ratio + 0.02);
+  EXPECT_GT(st.after.min_angle_deg, st.before.min_angle_deg);
+  const ShapeFigures now = shape_figures(m);
+  EXPECT_DOUBLE_EQ(now.radius_ratio, st.after.radius_ratio);
+  // The same surface: closed, oriented, one sphere, on f = 0, nothing crossing.
+  ASSERT_EQ(m.vertices.size(), c.mesh.vertices.size());
+  ASSERT_EQ(m.triangles.size(), c.mesh.triangles.size());
+  const Topology t = analyze_topology(m);
+  EXPECT_TRUE(t.closed);
+  EXPECT_TRUE(t.oriented);
+  EXPECT_EQ(t.genus, 0);
+  EXPECT_EQ(t.nonmanifold_edges + t.nonmanifold_vertices, 0);
+  EXPECT_EQ(count_self_intersections(m), 0);
+  double worst = 0;
+  for (const auto& v : m.vertices) worst = std::max(worst, std::abs(mpu::evaluate_f(c.surface, v)));
+  EXPECT_LT(worst, 1e-6);
+  // Repeatable.
+  TriangleMesh again = c.mesh;
+  optimize_mesh(again, c.surface, cpu, c.spacing);
+  EXPECT_EQ(again.vertices, m.vertices);
+  EXPECT_EQ(again.triangles, m.triangles);
+}
+
+TEST(MeshOptimize, KeepsTheSizesItIsGiven) {
+  // Half the spacing on one side of the plane x = 0: the relaxation draws vertices to that
+  // side (the density weights), where uniform weights would keep them even.
+  const Case& c = ellipsoid();
+  TriangleMesh m = c.mesh;
+  std::vector<double> spacing = c.spacing;
+  for (size_t v = 0; v < spacing.size(); ++v)
+    if (m.vertices[v].x() > 0) spacing[v] *= 0.5;
+  CpuBackend cpu;
+  auto share_right = [](const TriangleMesh& mesh) {
+    double right = 0;
+    for (const auto& v : mesh.vertices) right += v.x() > 0;
+    return right / double(mesh.vertices.size());
+  };
+  TriangleMesh even = c.mesh;
+  optimize_mesh(even, c.surface, cpu, c.spacing);
+  optimize_mesh(m, c.surface, cpu, spacing);
+  // Vertices drift toward the dense side (0.502 before, 0.503 with even sizes, 0.519).
+  std::printf("share of the vertices at x > 0: before %.3f, even sizes %.3f, denser there %.3f\n", share_right(c.mesh),
+              share_right(even), share_right(m));
+  EXPECT_GT(share_right(m), share_right(even) + 0.01);
+}
+
+}  // namespace
+}  // namespace mpumesh
