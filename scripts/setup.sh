@@ -10,15 +10,16 @@ PACKAGES=(
   # Vulkan: loader and headers, lavapipe (software device), validation layers, shader compiler
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
   # maths, geometry, medical image I/O
-  libeigen3-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev
+  libeigen3-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libtet1.5-dev
   libinsighttoolkit5-dev zlib1g-dev
   # command line, JSON, formatting, threads, neighbour search, images
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev libtbb-dev libnanoflann-dev libstb-dev
   # the Python module and the cohort workflow
   pybind11-dev python3-dev python3-numpy snakemake
   # tests (chromium: the HTML report opened in a real, headless browser; clang and its
-  # runtime: the libFuzzer targets; pytest and nibabel: the Python module's tests)
-  libgtest-dev chromium clang libclang-rt-14-dev python3-pytest python3-nibabel
+  # runtime: the libFuzzer targets; pytest and nibabel: the Python module's tests; meshio:
+  # an independent reader of the volume meshes; CalculiX: a finite-element solver on them)
+  libgtest-dev chromium clang libclang-rt-14-dev python3-pytest python3-nibabel python3-meshio calculix-ccx
   # sample data: the InVesalius head CT, pydicom's small real DICOM files
   invesalius-examples python3-pydicom
 )

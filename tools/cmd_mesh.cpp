@@ -13,6 +13,8 @@
 #include "common/error.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
+#include "io/tet_io.h"
+#include "tet_cli.h"
 #include "io/volume_io.h"
 #include "mc/marching_cubes.h"
 #include "mesh/component_filter.h"
@@ -95,13 +97,27 @@ void add_quality_command(CLI::App& app, CommonOptions& common, std::function<voi
     bool no_self = false;
   };
   auto o = std::make_shared<Opts>();
-  auto* cmd = app.add_subcommand("quality", "Topology, triangle quality, smoothness and distances of a mesh");
-  cmd->add_option("mesh", o->mesh, "mesh: .ply, .stl, .obj or .off")->required();
+  auto* cmd = app.add_subcommand("quality", "Topology, triangle quality, smoothness and distances of a mesh; the "
+                                            "tetrahedra's shapes of a volume mesh");
+  cmd->add_option("mesh", o->mesh, "mesh: .ply, .stl, .obj or .off; or a volume mesh: .msh, .vtu, .mesh or .inp")
+      ->required();
   cmd->add_option("--reference", o->reference, "reference mesh for Hausdorff and mean distances (mm)");
   cmd->add_flag("--no-self-intersections", o->no_self, "skip the self-intersection test (slow on huge meshes)");
   add_common(cmd, common);
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
+      if (is_tet_mesh_path(o->mesh)) {
+        if (!o->reference.empty()) throw InputError(o->mesh + ": --reference measures surfaces, not volume meshes");
+        const TetQuality q = measure_tet_quality(read_tet_mesh(o->mesh));
+        if (common.json) {
+          nlohmann::json j = tet_quality_json(q);
+          j["mesh"] = o->mesh;
+          std::cout << j.dump(2) << '\n';
+        } else if (!common.quiet) {
+          std::cout << o->mesh << "\n" << tet_quality_text(q);
+        }
+        return;
+      }
       TriangleMesh mesh = read_mesh(o->mesh);
       TriangleMesh ref;
       QualityOptions opt;

@@ -16,11 +16,13 @@
 #include "component_cli.h"
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
+#include "io/tet_io.h"
 #include "io/volume_io.h"
 #include "mesh/mesh_separation.h"
 #include "mpu/mpu_io.h"
 #include "report_builder.h"
 #include "run_cli.h"
+#include "tet_cli.h"
 #include "segment/label_map.h"
 
 namespace mpumesh::tools {
@@ -50,6 +52,7 @@ void print_summary(const RunCli& o, const std::string& output, const pipeline::R
               << " particles (" << choice.backend->device() << ")\n"
               << quality_to_text(r.quality);
   if (r.sparse) std::cout << "note: " << r.notes.back() << "\n";
+  if (r.has_volume) std::cout << tet_text(o.volume, r.volume_stats);
 }
 
 void write_html(const std::string& output, const std::string& html, const pipeline::RunResult& r,
@@ -76,6 +79,7 @@ void run_one(const RunCli& o, const pipeline::RunOptions& options, const CommonO
   progress.begin("write mesh");
   write_mesh(r.mesh, o.output);
   if (!o.surface.empty()) write_mpu(r.surface, o.surface);
+  if (r.has_volume) write_tet_mesh(r.volume, o.volume);
   progress.end();
   nlohmann::json j = run_json(o, o.output, r, choice);
   if (options.label > 0) j["label"] = options.label;

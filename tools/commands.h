@@ -29,5 +29,6 @@ void add_triangulate_command(CLI::App& app, CommonOptions& common, std::function
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_render_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 void add_report_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
+void add_tetmesh_command(CLI::App& app, CommonOptions& common, std::function<void()>& action);
 
 }  // namespace mpumesh::tools

@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   mpumesh::tools::add_mc_command(app, common, action);
   mpumesh::tools::add_quality_command(app, common, action);
   mpumesh::tools::add_filter_command(app, common, action);
+  mpumesh::tools::add_tetmesh_command(app, common, action);
   mpumesh::tools::add_convert_command(app, common, action);
   mpumesh::tools::add_devices_command(app, common, action);
   try {

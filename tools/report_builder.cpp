@@ -349,6 +349,41 @@ void add_adaptivity(report::HtmlPage& page, const TriangleMesh& ours, const nloh
 
 }
 
+// The volume mesh's figures (run --volume) and a histogram of its dihedral angles.
+void add_volume_mesh(report::HtmlPage& page, const nlohmann::json& run) {
+  if (!run.is_object() || !run.contains("volume_mesh") || !run["volume_mesh"].is_object()) return;
+  const auto& v = run["volume_mesh"];
+  const auto num = [&](const char* key) { return v.contains(key) && v[key].is_number() ? v[key].get<double>() : NAN; };
+  page.heading("Volume mesh");
+  page.paragraph(report::escape_html(fmt::format(
+      "{:.0f} linear tetrahedra on {:.0f} nodes in {:.0f} regions ({}, {:.2f} s), the surface's triangles their "
+      "boundary ({:.0f} points added on it); edges up to {:.2f} mm inside, growing by {:.2f} mm per mm from the "
+      "surface.",
+      num("tetrahedra"), num("nodes"), num("regions"), fmt_num(v.value("engine", "")), num("seconds"),
+      num("boundary_points_added"), num("size_mm"), num("grading"))));
+  page.table({"smallest dihedral", "largest dihedral", "tets under 10°", "under 15°", "mean radius ratio",
+              "inverted", "volume", "surface's volume"},
+             {{fmt::format("{:.2f}°", num("min_dihedral_deg")), fmt::format("{:.2f}°", num("max_dihedral_deg")),
+               fmt::format("{:.3f}%", num("pct_min_dihedral_below_10")),
+               fmt::format("{:.3f}%", num("pct_min_dihedral_below_15")), fmt::format("{:.3f}", num("radius_ratio_mean")),
+               fmt::format("{:.0f}", num("inverted")), fmt::format("{:.1f} mm3", num("volume_mm3")),
+               fmt::format("{:.1f} mm3 ({:+.4f}%)", num("surface_volume_mm3"), num("volume_difference_pct"))}});
+  // The histogram's counts as values at the bins' centres, scaled to at most 20,000 (a bin
+  // that holds any keeps one, so that a few slivers show).
+  if (!v.contains("dihedral_histogram_5deg") || !v["dihedral_histogram_5deg"].is_array()) return;
+  const auto& h = v["dihedral_histogram_5deg"];
+  double total = 0;
+  for (const auto& c : h) total += c.is_number() ? c.get<double>() : 0;
+  const double scale = total > 20000 ? 20000 / total : 1.0;
+  report::Series s{"dihedral angles", kColours[0], {}};
+  for (size_t b = 0; b < h.size(); ++b) {
+    const double c = h[b].is_number() ? h[b].get<double>() : 0;
+    const int64_t n = c > 0 ? std::max<int64_t>(1, std::llround(c * scale)) : 0;
+    s.values.insert(s.values.end(), size_t(n), 5.0 * double(b) + 2.5);
+  }
+  page.svg(report::svg_histogram("Dihedral angles of the tetrahedra", "degrees", {s}, 0, 180, 36));
+}
+
 void add_stage_times(report::HtmlPage& page, const nlohmann::json& run) {
   if (run.contains("stage_seconds")) {
     std::vector<std::pair<std::string, double>> bars;
@@ -390,6 +425,7 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   add_region(page, ours, all, shapes, backend);
   add_histograms(page, all, shapes);
   add_adaptivity(page, ours, in.run, k_source);
+  add_volume_mesh(page, in.run);
   add_stage_times(page, in.run);
   add_parameters(page, in.run);
   return page.html();

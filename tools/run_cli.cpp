@@ -7,10 +7,12 @@
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/read_file.h"
+#include "io/tet_io.h"
 #include "mpu_cli.h"
 #include "sample_cli.h"
 #include "component_cli.h"
 #include "segment/label_map.h"
+#include "tet_cli.h"
 
 namespace mpumesh::tools {
 
@@ -24,6 +26,9 @@ void add_run_paths(CLI::App* cmd, RunCli& o) {
   cmd->add_option("--html", o.html,
                   "write the HTML report here: renders, the comparison with marching cubes and the original MPU, "
                   "histograms, stage times");
+  cmd->add_option("--volume", o.volume,
+                  "also fill the mesh with tetrahedra for finite elements (its triangles their boundary) and write "
+                  "them here: .msh (gmsh 4.1), .vtu (VTK), .mesh (medit) or .inp (Abaqus/CalculiX, mesh only)");
 }
 
 void add_run_parameters(CLI::App* cmd, RunCli& o) {
@@ -56,6 +61,7 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
                   "the surface); 0: none")
       ->check(CLI::Range(0, 50))
       ->capture_default_str();
+  add_tet_options(cmd, o.tet, "volume-");
   add_component_options(cmd, o.components);
   add_backend_options(cmd, o.backend);
   cmd->add_option("--threads", o.threads, "use at most this many threads (default: every core)")
@@ -84,6 +90,8 @@ void check_label_options(const RunCli& o) {
                                  "not apply",
                                  flag));
   if (!many) return;
+  if (!o.volume.empty())
+    throw InputError("--labels: --volume fills one surface; mesh each label's surface with `mpumesh tetmesh`");
   seg::parse_label_list(o.labels);  // its errors now, before the volume is read
   for (const std::string* path : {&o.output, &o.html, &o.surface})
     if (!path->empty() && path->find(kLabelField) == std::string::npos)
@@ -100,6 +108,10 @@ void check_run_outputs(const RunCli& o) {
   mesh_format_from_path(o.output);
   if (!o.report.empty()) check_writable(o.report);
   if (!o.surface.empty()) check_writable(with_label(o.surface, 0));
+  if (!o.volume.empty()) {
+    tet_format_from_path(o.volume);
+    check_writable(o.volume);
+  }
   if (!o.html.empty()) {
     check_writable(with_label(o.html, 0));
     if (lower_extension(o.html) != ".html") throw InputError(o.html + ": the HTML report must be a .html file");
@@ -119,6 +131,9 @@ pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common) {
   r.sample = o.sample;
   r.count_retries = o.count_retries;
   r.optimize.rounds = o.optimize_rounds;
+  validate(o.tet, "run");
+  r.volume_mesh = !o.volume.empty();
+  r.tet = o.tet;
   r.components = o.components;
   r.quality = !o.report.empty() || common.json || !common.quiet;
   r.quality_options.self_intersections = o.self_intersections;
@@ -180,6 +195,10 @@ nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeli
   j["vertices"] = r.mesh.vertices.size();
   j["triangles"] = r.mesh.triangles.size();
   if (o.components.active()) j["components_filter"] = components_json(o.components, r.components_kept, r.components_dropped);
+  if (r.has_volume) {
+    j["volume_mesh"] = tet_json(o.tet, r.volume_stats);
+    j["volume_mesh"]["output"] = o.volume;
+  }
   if (r.has_quality) j["quality"] = quality_to_json(r.quality);
   j["notes"] = r.notes;
   j["version"] = MPUMESH_VERSION;

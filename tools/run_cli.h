@@ -13,6 +13,7 @@
 #include "mesh/component_filter.h"
 #include "pipeline/run_pipeline.h"
 #include "seg_cli.h"
+#include "tet/tetrahedralize.h"
 
 namespace mpumesh::tools {
 
@@ -20,7 +21,8 @@ namespace mpumesh::tools {
 inline constexpr std::string_view kLabelField = "{label}";
 
 struct RunCli {
-  std::string input, output, report, html, surface, local_fit = "orthopoly";
+  std::string input, output, report, html, surface, volume, local_fit = "orthopoly";
+  TetOptions tet;
   SegmentCli seg;
   mpu::FitOptions fit;
   particles::SampleOptions sample;

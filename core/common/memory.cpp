@@ -35,10 +35,10 @@ uint64_t peak_rss_bytes() {
   return uint64_t(u.ru_maxrss) * 1024;  // kB on Linux
 }
 
-uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles) {
+uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles, bool volume_mesh) {
   const uint64_t threads = std::max(2u, std::thread::hardware_concurrency());
   return (64ull << 20) + std::max(uint64_t(voxels) * 12, uint64_t(points) * 700) + uint64_t(particles) * 3000 +
-         (threads - 2) * (75ull << 20);
+         (volume_mesh ? uint64_t(particles) * 3500 : 0) + (threads - 2) * (75ull << 20);
 }
 
 void check_memory(const std::string& what, uint64_t need) {

@@ -152,7 +152,8 @@ void sample_and_triangulate(Run& run, const PointCloud& cloud) {
     // (By spacing, the count grows by the same factor.)
     r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()),
                                            so.particles > 0 ? so.particles
-                                                            : int64_t(double(r.particles.size()) * kRaise));
+                                                            : int64_t(double(r.particles.size()) * kRaise),
+                                           run.opt.volume_mesh);
     check_memory(run.input, r.memory_estimate);
     r.mesh = TriangleMesh{};
     r.particles = particles::ParticleState{};
@@ -248,7 +249,7 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   const bool count_follows = scan && options.sample.particles == 0 && options.sample.spacing == 0;
   const int64_t asked =
       count_follows ? std::max(particles::kDefaultParticles, int64_t(cloud.size())) : asked_particles(options);
-  r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked);
+  r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked, options.volume_mesh);
   check_memory(input, r.memory_estimate);
   r.fit_options = run.opt.fit;
   r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, run.opt.fit, &r.fit); });
@@ -259,6 +260,10 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   if (options.quality) {
     r.quality = stage(run.obs, "quality", [&] { return measure_quality(r.mesh, options.quality_options); });
     r.has_quality = true;
+  }
+  if (options.volume_mesh) {
+    r.volume = stage(run.obs, "volume mesh", [&] { return tetrahedralize(r.mesh, options.tet, &r.volume_stats); });
+    r.has_volume = true;
   }
   r.notes = r.input.read_notes;
   if (r.sparse) r.notes.push_back(sparse_note(r));  // the last note

@@ -26,6 +26,7 @@
 #include "particles/particle_system.h"
 #include "points/slice_points.h"
 #include "segment/segmentation.h"
+#include "tet/tetrahedralize.h"
 
 namespace mpumesh::pipeline {
 
@@ -53,6 +54,9 @@ struct RunOptions {
   // count nor a spacing is given, else 0.
   int count_retries = -1;
   OptimizeOptions optimize;  // the mesh optimisation after the triangulation (rounds 0: none)
+  // Fill the final mesh with tetrahedra (tet/tetrahedralize.h) as the last stage.
+  bool volume_mesh = false;
+  TetOptions tet;
   ComponentFilter components;  // the structures to keep (--largest, --min-volume)
   bool quality = true;  // measure the mesh's quality (RunResult::quality)
   QualityOptions quality_options;
@@ -103,6 +107,9 @@ struct RunResult {
   std::vector<CountRaise> raises;
   RestrictedDelaunayStats triangulation;
   OptimizeStats optimization;
+  bool has_volume = false;
+  TetMesh volume;
+  TetStats volume_stats;
   TriangleMesh mesh;
   int64_t components_kept = 0;               // when RunOptions::components is active
   std::vector<DroppedComponent> components_dropped;

@@ -57,8 +57,13 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
   // value exceeds iso.
   Domain domain = Domain::create_gray_image_mesh_domain(image, CGAL::parameters::iso_value = p.iso,
                                                         CGAL::parameters::value_outside = background);
-  Criteria criteria(CGAL::parameters::facet_angle = p.facet_angle, CGAL::parameters::facet_size = p.facet_size,
-                    CGAL::parameters::facet_distance = p.facet_distance);
+  Criteria criteria =
+      p.cell_size > 0
+          ? Criteria(CGAL::parameters::facet_angle = p.facet_angle, CGAL::parameters::facet_size = p.facet_size,
+                     CGAL::parameters::facet_distance = p.facet_distance, CGAL::parameters::cell_radius_edge_ratio = 3,
+                     CGAL::parameters::cell_size = p.cell_size)
+          : Criteria(CGAL::parameters::facet_angle = p.facet_angle, CGAL::parameters::facet_size = p.facet_size,
+                     CGAL::parameters::facet_distance = p.facet_distance);
   // CGAL's own start for images: a seed in every connected component of the thresholded
   // image, and the surface points that rays from it meet. (With its default random start
   // Mesh_3 loses whole bones; with 24 points of each marching-cubes component, this
@@ -72,8 +77,12 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
     std::cout.rdbuf(saved);
   }
   r.initial_points = int64_t(c3t3.triangulation().number_of_vertices());
-  CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude(),
-                      CGAL::parameters::manifold());
+  if (p.cell_size > 0)
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude(),
+                        CGAL::parameters::manifold());
+  else
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude(),
+                        CGAL::parameters::manifold());
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // The boundary facets, oriented outward (from the inside cell).
   std::map<Tr::Vertex_handle, uint32_t> index;
@@ -98,6 +107,28 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
     uint32_t a = vid(cell->vertex((i + 1) & 3)), b = vid(cell->vertex((i + 2) & 3)), c = vid(cell->vertex((i + 3) & 3));
     if (i % 2 == 0) std::swap(b, c);
     r.mesh.triangles.push_back({a, b, c});
+  }
+  if (p.cell_size > 0) {
+    for (auto it = c3t3.cells_in_complex_begin(); it != c3t3.cells_in_complex_end(); ++it) {
+      std::array<uint32_t, 4> t;
+      for (int k = 0; k < 4; ++k) {
+        const Tr::Vertex_handle h = it->vertex(k);
+        auto [at, fresh] = index.emplace(h, uint32_t(r.mesh.vertices.size()));
+        if (fresh) {
+          const auto& pt = h->point().point();
+          r.mesh.vertices.push_back(v.origin + v.direction * Eigen::Vector3d(pt.x(), pt.y(), pt.z()));
+        }
+        t[size_t(k)] = at->second;
+      }
+      r.volume.tets.push_back(t);
+      r.volume.region.push_back(1);
+    }
+    r.volume.nodes = r.mesh.vertices;
+    r.volume.regions = 1;
+    for (auto& t : r.volume.tets) {  // positive in the physical frame (the direction may mirror)
+      const auto& n = r.volume.nodes;
+      if ((n[t[1]] - n[t[0]]).dot((n[t[2]] - n[t[0]]).cross(n[t[3]] - n[t[0]])) < 0) std::swap(t[2], t[3]);
+    }
   }
   // Should the convention above be the other one, the enclosed volume tells.
   double vol = 0;

@@ -6,6 +6,7 @@
 // manifold() on. Sequential (CGAL's default build).
 #pragma once
 
+#include "geometry/tet_mesh.h"
 #include "geometry/triangle_mesh.h"
 #include "volume/volume.h"
 
@@ -14,10 +15,14 @@ namespace mpumesh::bench {
 struct Mesh3Params {
   double iso = 226;
   double facet_angle = 30, facet_size = 3.4, facet_distance = 0.72;
+  // A volume mesh too: cell_size > 0 adds the cell criteria (that size, radius-edge ratio
+  // 3), then CGAL's sliver perturbation and exudation.
+  double cell_size = 0;
 };
 
 struct Mesh3Result {
   TriangleMesh mesh;
+  TetMesh volume;  // with cell_size: the cells in the complex, one region
   int64_t initial_points = 0;  // after the initialisation
   double seconds = 0;  // domain, initial points and refinement
 };

@@ -1,0 +1,390 @@
+#include "io/tet_io.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "common/error.h"
+#include "common/text.h"
+#include "io/atomic_file.h"
+#include "io/read_file.h"
+
+namespace mpumesh {
+namespace {
+
+// Appends to a string (fmt's buffer-free way: one allocation growing as needed).
+struct Out {
+  std::string s;
+  template <class... A>
+  void put(fmt::format_string<A...> f, A&&... a) {
+    fmt::format_to(std::back_inserter(s), f, std::forward<A>(a)...);
+  }
+};
+
+// The nodes on the boundary, in order.
+std::vector<uint32_t> boundary_nodes(const TetMesh& m) {
+  std::vector<uint32_t> out;
+  out.reserve(3 * m.boundary.size());
+  for (const auto& f : m.boundary) out.insert(out.end(), f.begin(), f.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Each region's tetrahedra, in order.
+std::vector<std::vector<uint32_t>> tets_by_region(const TetMesh& m) {
+  std::vector<std::vector<uint32_t>> by(size_t(std::max(m.regions, 0)) + 1);
+  for (uint32_t t = 0; t < m.tets.size(); ++t) by[size_t(m.region[t])].push_back(t);
+  return by;
+}
+
+std::string msh(const TetMesh& m) {
+  Out o;
+  o.put("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$PhysicalNames\n{}\n", m.regions);
+  for (int r = 1; r <= m.regions; ++r) o.put("3 {} \"region_{}\"\n", r, r);
+  o.put("$EndPhysicalNames\n$Entities\n0 0 0 {}\n", m.regions);
+  const auto by = tets_by_region(m);
+  for (int r = 1; r <= m.regions; ++r) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+    for (uint32_t t : by[size_t(r)])
+      for (uint32_t v : m.tets[t]) lo = lo.cwiseMin(m.nodes[v]), hi = hi.cwiseMax(m.nodes[v]);
+    o.put("{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} 1 {} 0\n", r, lo.x(), lo.y(), lo.z(), hi.x(), hi.y(),
+          hi.z(), r);
+  }
+  // All nodes in one block of the first volume (elements of any entity may use them).
+  o.put("$EndEntities\n$Nodes\n1 {} 1 {}\n3 1 0 {}\n", m.nodes.size(), m.nodes.size(), m.nodes.size());
+  for (size_t i = 0; i < m.nodes.size(); ++i) o.put("{}\n", i + 1);
+  for (const auto& p : m.nodes) o.put("{:.17g} {:.17g} {:.17g}\n", p.x(), p.y(), p.z());
+  o.put("$EndNodes\n$Elements\n{} {} 1 {}\n", m.regions, m.tets.size(), m.tets.size());
+  size_t tag = 1;
+  for (int r = 1; r <= m.regions; ++r) {
+    o.put("3 {} 4 {}\n", r, by[size_t(r)].size());
+    for (uint32_t t : by[size_t(r)]) {
+      const auto& v = m.tets[t];
+      o.put("{} {} {} {} {}\n", tag++, v[0] + 1, v[1] + 1, v[2] + 1, v[3] + 1);
+    }
+  }
+  o.put("$EndElements\n");
+  return std::move(o.s);
+}
+
+std::string vtu(const TetMesh& m) {
+  Out o;
+  o.put("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"0.1\" byte_order=\"LittleEndian\">\n"
+        "<UnstructuredGrid>\n<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n<Points>\n"
+        "<DataArray type=\"Float64\" NumberOfComponents=\"3\" format=\"ascii\">\n",
+        m.nodes.size(), m.tets.size());
+  for (const auto& p : m.nodes) o.put("{:.17g} {:.17g} {:.17g}\n", p.x(), p.y(), p.z());
+  o.put("</DataArray>\n</Points>\n<Cells>\n<DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
+  for (const auto& t : m.tets) o.put("{} {} {} {}\n", t[0], t[1], t[2], t[3]);
+  o.put("</DataArray>\n<DataArray type=\"Int64\" Name=\"offsets\" format=\"ascii\">\n");
+  for (size_t t = 0; t < m.tets.size(); ++t) o.put("{}\n", 4 * (t + 1));
+  o.put("</DataArray>\n<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">\n");
+  for (size_t t = 0; t < m.tets.size(); ++t) o.put("10\n");
+  o.put("</DataArray>\n</Cells>\n<CellData Scalars=\"region\">\n"
+        "<DataArray type=\"Int32\" Name=\"region\" format=\"ascii\">\n");
+  for (int32_t r : m.region) o.put("{}\n", r);
+  o.put("</DataArray>\n</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+  return std::move(o.s);
+}
+
+std::string medit(const TetMesh& m) {
+  // A vertex's reference: the region of a tetrahedron that uses it.
+  std::vector<int32_t> ref(m.nodes.size(), 0);
+  for (size_t t = 0; t < m.tets.size(); ++t)
+    for (uint32_t v : m.tets[t]) ref[v] = m.region[t];
+  Out o;
+  o.put("MeshVersionFormatted 2\nDimension 3\nVertices\n{}\n", m.nodes.size());
+  for (size_t i = 0; i < m.nodes.size(); ++i)
+    o.put("{:.17g} {:.17g} {:.17g} {}\n", m.nodes[i].x(), m.nodes[i].y(), m.nodes[i].z(), ref[i]);
+  o.put("Tetrahedra\n{}\n", m.tets.size());
+  for (size_t t = 0; t < m.tets.size(); ++t) {
+    const auto& v = m.tets[t];
+    o.put("{} {} {} {} {}\n", v[0] + 1, v[1] + 1, v[2] + 1, v[3] + 1, m.region[t]);
+  }
+  o.put("Triangles\n{}\n", m.boundary.size());
+  for (size_t f = 0; f < m.boundary.size(); ++f) {
+    const auto& v = m.boundary[f];
+    o.put("{} {} {} {}\n", v[0] + 1, v[1] + 1, v[2] + 1, m.boundary_region[f]);
+  }
+  o.put("End\n");
+  return std::move(o.s);
+}
+
+// Abaqus lists: at most 16 entries a line.
+void id_list(Out& o, const std::vector<uint32_t>& ids) {
+  for (size_t k = 0; k < ids.size(); ++k) o.put("{}{}", ids[k] + 1, (k + 1) % 16 == 0 || k + 1 == ids.size() ? "\n" : ", ");
+}
+
+std::string inp(const TetMesh& m) {
+  Out o;
+  o.put("** Written by mpumesh: {} nodes, {} linear tetrahedra (C3D4), {} regions; the mesh only, to be\n"
+        "** *INCLUDEd by an analysis deck. Sets: NALL, EALL, REGION_1 ..., BOUNDARY (the surface's nodes).\n",
+        m.nodes.size(), m.tets.size(), m.regions);
+  o.put("*NODE, NSET=NALL\n");
+  for (size_t i = 0; i < m.nodes.size(); ++i) o.put("{}, {:.17g}, {:.17g}, {:.17g}\n", i + 1, m.nodes[i].x(), m.nodes[i].y(), m.nodes[i].z());
+  o.put("*ELEMENT, TYPE=C3D4, ELSET=EALL\n");
+  for (size_t t = 0; t < m.tets.size(); ++t) {
+    const auto& v = m.tets[t];
+    o.put("{}, {}, {}, {}, {}\n", t + 1, v[0] + 1, v[1] + 1, v[2] + 1, v[3] + 1);
+  }
+  const auto by = tets_by_region(m);
+  for (int r = 1; r <= m.regions; ++r) {
+    o.put("*ELSET, ELSET=REGION_{}\n", r);
+    id_list(o, by[size_t(r)]);
+  }
+  o.put("*NSET, NSET=BOUNDARY\n");
+  id_list(o, boundary_nodes(m));
+  return std::move(o.s);
+}
+
+// Readers ------------------------------------------------------------------------------
+
+[[noreturn]] void bad(const std::string& path, const std::string& what) {
+  throw InputError(path + ": not a volume mesh mpumesh can read: " + what);
+}
+
+// Regions from the tetrahedra's numbers, and the count.
+void finish(TetMesh& m, const std::string& path) {
+  for (const auto& t : m.tets)
+    for (uint32_t v : t)
+      if (v >= m.nodes.size()) bad(path, "a tetrahedron names node " + std::to_string(v + 1) + " of " + std::to_string(m.nodes.size()));
+  m.regions = 0;
+  for (int32_t r : m.region) m.regions = std::max(m.regions, r);
+}
+
+TetMesh read_msh(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
+  std::string line;
+  TetMesh m;
+  std::map<int64_t, uint32_t> node_index;
+  while (std::getline(in, line)) {
+    if (line == "$MeshFormat") {
+      std::string version;
+      in >> version;
+      if (version.rfind("4.1", 0) != 0) bad(path, "MSH version " + version + " (4.1 is read)");
+    } else if (line == "$Nodes") {
+      size_t blocks, count, lo, hi;
+      in >> blocks >> count >> lo >> hi;
+      for (size_t b = 0; b < blocks; ++b) {
+        int dim, tag, param;
+        size_t n;
+        in >> dim >> tag >> param >> n;
+        std::vector<int64_t> tags(n);
+        for (auto& t : tags) in >> t;
+        for (size_t k = 0; k < n; ++k) {
+          Eigen::Vector3d p;
+          in >> p.x() >> p.y() >> p.z();
+          node_index[tags[k]] = uint32_t(m.nodes.size());
+          m.nodes.push_back(p);
+        }
+      }
+    } else if (line == "$Elements") {
+      size_t blocks, count, lo, hi;
+      in >> blocks >> count >> lo >> hi;
+      for (size_t b = 0; b < blocks; ++b) {
+        int dim, tag, type;
+        size_t n;
+        in >> dim >> tag >> type >> n;
+        const int nodes = type == 4 ? 4 : type == 2 ? 3 : type == 1 ? 2 : type == 15 ? 1 : -1;
+        if (nodes < 0) bad(path, "element type " + std::to_string(type));
+        for (size_t k = 0; k < n; ++k) {
+          int64_t id, v[4];
+          in >> id;
+          for (int j = 0; j < nodes; ++j) in >> v[j];
+          if (type != 4) continue;
+          std::array<uint32_t, 4> t;
+          for (int j = 0; j < 4; ++j) {
+            const auto it = node_index.find(v[j]);
+            if (it == node_index.end()) bad(path, "an element names node " + std::to_string(v[j]) + ", which is not listed");
+            t[size_t(j)] = it->second;
+          }
+          m.tets.push_back(t);
+          m.region.push_back(tag);
+        }
+      }
+    }
+    if (!in) bad(path, "cut short or malformed");
+  }
+  return m;
+}
+
+// The text between the opening tag holding `name` and the next "</DataArray>".
+std::string vtu_array(const std::string& text, const std::string& name, const std::string& path) {
+  const size_t at = text.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) bad(path, "no array " + name);
+  const size_t start = text.find('>', at), end = text.find("</DataArray>", at);
+  if (start == std::string::npos || end == std::string::npos) bad(path, "array " + name + " not closed");
+  if (text.rfind("format=\"ascii\"", end) < at) bad(path, "array " + name + " is not ASCII");
+  return text.substr(start + 1, end - start - 1);
+}
+
+TetMesh read_vtu(const std::string& text, const std::string& path) {
+  TetMesh m;
+  const size_t pts = text.find("<Points>");
+  if (pts == std::string::npos) bad(path, "no <Points>");
+  const size_t start = text.find('>', text.find("<DataArray", pts)), end = text.find("</DataArray>", pts);
+  std::istringstream p(text.substr(start + 1, end - start - 1));
+  for (Eigen::Vector3d x; p >> x.x() >> x.y() >> x.z();) m.nodes.push_back(x);
+  std::istringstream conn(vtu_array(text, "connectivity", path)), types(vtu_array(text, "types", path));
+  std::istringstream regions(text.find("Name=\"region\"") != std::string::npos ? vtu_array(text, "region", path) : "");
+  for (int type; types >> type;) {
+    if (type != 10) bad(path, "cell type " + std::to_string(type) + " (10, a tetrahedron, is read)");
+    std::array<uint32_t, 4> t;
+    for (auto& v : t) conn >> v;
+    int32_t r = 1;
+    regions >> r;
+    m.tets.push_back(t);
+    m.region.push_back(r);
+  }
+  if (!conn) bad(path, "connectivity cut short");
+  return m;
+}
+
+TetMesh read_medit(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
+  TetMesh m;
+  for (std::string word; in >> word;) {
+    if (word == "Vertices") {
+      size_t n;
+      in >> n;
+      for (size_t i = 0; i < n; ++i) {
+        Eigen::Vector3d p;
+        int ref;
+        in >> p.x() >> p.y() >> p.z() >> ref;
+        m.nodes.push_back(p);
+      }
+    } else if (word == "Tetrahedra") {
+      size_t n;
+      in >> n;
+      for (size_t i = 0; i < n; ++i) {
+        std::array<uint32_t, 4> t;
+        int32_t ref;
+        for (auto& v : t) in >> v, --v;
+        in >> ref;
+        m.tets.push_back(t);
+        m.region.push_back(ref);
+      }
+    } else if (word == "Triangles") {
+      size_t n;
+      in >> n;
+      for (size_t i = 0; i < n; ++i) {
+        std::array<uint32_t, 3> f;
+        int32_t ref;
+        for (auto& v : f) in >> v, --v;
+        in >> ref;
+        m.boundary.push_back(f);
+        m.boundary_region.push_back(ref);
+      }
+    }
+    if (!in && !in.eof()) bad(path, "cut short or malformed after " + word);
+  }
+  return m;
+}
+
+TetMesh read_inp(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
+  TetMesh m;
+  std::map<int64_t, uint32_t> node_index, elem_index;
+  std::string mode, set;
+  std::vector<std::pair<std::string, std::vector<int64_t>>> elsets;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("**", 0) == 0 || line.empty()) continue;
+    if (line[0] == '*') {
+      const std::string head = lower_case(line);
+      const auto keyword = [&](const char* k) { return head == k || head.rfind(std::string(k) + ",", 0) == 0; };
+      mode = keyword("*node") ? "node" : keyword("*element") ? "element" : keyword("*elset") ? "elset" : "";
+      if (mode == "element" && head.find("c3d4") == std::string::npos) bad(path, "elements other than C3D4");
+      if (mode == "elset") {
+        const size_t at = head.find("elset=");
+        elsets.push_back({line.substr(at + 6), {}});
+      }
+      continue;
+    }
+    std::replace(line.begin(), line.end(), ',', ' ');
+    std::istringstream row(line);
+    if (mode == "node") {
+      int64_t id;
+      Eigen::Vector3d p;
+      row >> id >> p.x() >> p.y() >> p.z();
+      node_index[id] = uint32_t(m.nodes.size());
+      m.nodes.push_back(p);
+    } else if (mode == "element") {
+      int64_t id, v[4];
+      row >> id >> v[0] >> v[1] >> v[2] >> v[3];
+      std::array<uint32_t, 4> t;
+      for (int j = 0; j < 4; ++j) {
+        const auto it = node_index.find(v[j]);
+        if (it == node_index.end()) bad(path, "an element names node " + std::to_string(v[j]) + ", which is not listed");
+        t[size_t(j)] = it->second;
+      }
+      elem_index[id] = uint32_t(m.tets.size());
+      m.tets.push_back(t);
+      m.region.push_back(1);
+    } else if (mode == "elset") {
+      for (int64_t id; row >> id;) elsets.back().second.push_back(id);
+    }
+  }
+  // The regions from the ELSETs named REGION_r.
+  for (const auto& [name, ids] : elsets) {
+    const std::string upper = name;
+    if (lower_case(upper).rfind("region_", 0) != 0) continue;
+    const int32_t r = std::stoi(upper.substr(7));
+    for (int64_t id : ids) {
+      const auto it = elem_index.find(id);
+      if (it != elem_index.end()) m.region[it->second] = r;
+    }
+  }
+  return m;
+}
+
+}  // namespace
+
+bool is_tet_mesh_path(const std::string& path) {
+  const std::string ext = lower_case(std::filesystem::path(path).extension().string());
+  return ext == ".msh" || ext == ".vtu" || ext == ".mesh" || ext == ".inp";
+}
+
+TetFormat tet_format_from_path(const std::string& path) {
+  const std::string ext = lower_case(std::filesystem::path(path).extension().string());
+  if (ext == ".msh") return TetFormat::kMsh;
+  if (ext == ".vtu") return TetFormat::kVtu;
+  if (ext == ".mesh") return TetFormat::kMedit;
+  if (ext == ".inp") return TetFormat::kInp;
+  throw InputError(path + ": unknown volume mesh format '" + ext + "' (use .msh, .vtu, .mesh or .inp)");
+}
+
+void write_tet_mesh(const TetMesh& m, const std::string& path) {
+  const TetFormat f = tet_format_from_path(path);
+  MPUMESH_ASSERT(m.region.size() == m.tets.size() && m.boundary_region.size() == m.boundary.size(),
+                 "volume mesh regions");
+  std::string bytes;
+  switch (f) {
+    case TetFormat::kMsh: bytes = msh(m); break;
+    case TetFormat::kVtu: bytes = vtu(m); break;
+    case TetFormat::kMedit: bytes = medit(m); break;
+    case TetFormat::kInp: bytes = inp(m); break;
+  }
+  write_file_atomically(bytes, path);
+}
+
+TetMesh read_tet_mesh(const std::string& path) {
+  const TetFormat f = tet_format_from_path(path);
+  const std::string text = read_file(path);
+  TetMesh m;
+  switch (f) {
+    case TetFormat::kMsh: m = read_msh(text, path); break;
+    case TetFormat::kVtu: m = read_vtu(text, path); break;
+    case TetFormat::kMedit: m = read_medit(text, path); break;
+    case TetFormat::kInp: m = read_inp(text, path); break;
+  }
+  finish(m, path);
+  if (m.tets.empty()) bad(path, "no tetrahedra");
+  return m;
+}
+
+}  // namespace mpumesh

@@ -1,0 +1,59 @@
+// Linear tetrahedra that fill a closed, oriented surface mesh, with the surface's
+// triangles as their boundary: TetGen 1.5 (Si 2015, "TetGen, a Delaunay-based quality
+// tetrahedral mesh generator"; Debian's libtet1.5-dev) tetrahedralizes the surface as a
+// piecewise linear complex without splitting its triangles (-Y), refines the inside by
+// Delaunay refinement to a radius-edge ratio and a smallest dihedral angle (-q), with
+// the size each point asks for (-m), and improves the tetrahedra by flips and smoothing
+// (-O). The steps:
+// 1. a coarse quality tetrahedralization of the surface (radius-edge ratio 2);
+// 2. the size at its nodes: the surface's own spacing at the boundary, growing by
+//    `grading` mm per mm of distance from it, up to `size`:
+//        s(x) = min(size, min_b (s_b + grading |x - b|)),
+//    s_b the mean length of the edges at the surface vertex b;
+// 3. that mesh refined (-r) to the quality and the sizes, interpolated between its nodes;
+// 4. regions: the tetrahedra joined across faces that are not the surface's; a region
+//    whose surface triangles face into it lies in a cavity (the inside of a closed inner
+//    wall) and is removed;
+// 5. the inner nodes of slivers moved to raise their stars' smallest dihedral angle
+//    (perturb_slivers in tetrahedralize.cpp).
+// A tetrahedron whose four nodes all lie on the surface nearly in one plane (across a
+// plate thinner than the surface's spacing) cannot be mended so, and keeps its small
+// dihedral angle: only a point on the surface would mend it, and -Y forbids those.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "geometry/tet_mesh.h"
+#include "geometry/triangle_mesh.h"
+#include "tet/tet_quality.h"
+
+namespace mpumesh {
+
+struct TetOptions {
+  double size = 0;           // largest edge length inside (mm); 0: four times the surface's median edge
+  double grading = 0.3;      // growth of the size per mm from the surface
+  double radius_edge = 1.3;  // TetGen -q: largest circumradius / shortest edge
+  double min_dihedral = 15;  // TetGen -q: smallest dihedral angle it refines for (degrees)
+  int optimize_level = 7;    // TetGen -O (0-9)
+};
+
+struct TetStats {
+  int64_t surface_points = 0;      // the input surface's vertices, all of them nodes
+  int64_t boundary_points = 0;     // points TetGen added on the surface (0: -Y)
+  int64_t interior_points = 0;     // nodes inside
+  int64_t cavities_removed = 0;    // regions inside closed inner walls
+  int64_t perturbed = 0;           // inner nodes moved off slivers (step 5)
+  double size = 0;                 // the size used (mm)
+  double surface_volume = 0;       // enclosed by the input surface (mm³)
+  double seconds = 0;
+  TetQuality quality;
+};
+
+// Throws InputError when the surface is not a closed, oriented manifold (with its border
+// edges counted), or TetGen refuses it (the message names the problem it found).
+TetMesh tetrahedralize(const TriangleMesh& surface, const TetOptions& opt, TetStats* stats = nullptr);
+
+void validate(const TetOptions& o, const std::string& command);
+
+}  // namespace mpumesh

@@ -1,0 +1,87 @@
+// Benchmark: the volume mesh of the sample CT's bone against CGAL Mesh_3's of the gray
+// image, both in this run. Ours: the pipeline `mpumesh run VOLUME --threshold T --volume
+// V.msh` runs (core/pipeline, the surface at the default size, then TetGen, timed as the
+// 'volume mesh' stage and against the surface run); CGAL: Mesh_3 on the gray image
+// (tools/bench/cgal_mesh3_peer.h) with cell criteria (radius-edge ratio 3, the cell size
+// ours used), sliver perturbation and exudation, its facet size set for about our surface's
+// triangle count (one correction after a first try). For each: tetrahedra, nodes, dihedral
+// angles (smallest, % of tetrahedra with one under 10° and 15°), mean radius ratio, time.
+// Usage: mpumesh_bench_volume VOLUME [THRESHOLD] [PARTICLES]
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "cgal_mesh3_peer.h"
+#include "cpu/cpu_backend.h"
+#include "io/volume_io.h"
+#include "pipeline/run_pipeline.h"
+#include "tet/tet_quality.h"
+
+using namespace mpumesh;
+
+namespace {
+
+class StageTimes : public pipeline::Observer {
+ public:
+  void begin(const std::string& s) override { stage_ = s, t0_ = std::chrono::steady_clock::now(); }
+  void end() override { seconds[stage_] += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count(); }
+  std::map<std::string, double> seconds;
+
+ private:
+  std::string stage_;
+  std::chrono::steady_clock::time_point t0_;
+};
+
+void row(const char* name, int64_t triangles, const TetQuality& q, double seconds) {
+  fmt::print("{:<14} {:>9} {:>9} {:>8} {:>8.2f} {:>7.3f} {:>7.3f} {:>6.3f} {:>8.2f}\n", name, triangles, q.tets, q.nodes,
+             q.min_dihedral_deg, q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean, seconds);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES]\n", argv[0]);
+    return 2;
+  }
+  const std::string path = argv[1];
+  const double iso = argc > 2 ? std::stod(argv[2]) : 226;
+  const Volume vol = read_volume(path);
+  CpuBackend cpu;
+  pipeline::RunOptions ro;
+  ro.segment.method = seg::Method::kThreshold;
+  ro.segment.threshold = mc::ThresholdRange{iso};
+  ro.sample.particles = argc > 3 ? std::stoll(argv[3]) : 0;
+  ro.quality = false;
+  ro.volume_mesh = true;
+  StageTimes times;
+  const auto t0 = std::chrono::steady_clock::now();
+  const pipeline::RunResult r = pipeline::run_pipeline(path, ro, [&]() -> ComputeBackend& { return cpu; }, &times);
+  const double t_all = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double t_volume = times.seconds["volume mesh"], t_surface = t_all - t_volume;
+  fmt::print("volume {}: threshold {}; ours on {}\n", path, iso, cpu.device());
+  fmt::print("ours: surface run {:.2f} s ({} triangles), volume mesh {:.2f} s ({:.2f} times the surface run); size "
+             "{:.2f} mm\n",
+             t_surface, r.mesh.triangles.size(), t_volume, t_volume / t_surface, r.volume_stats.size);
+  // CGAL at about our surface's triangle count: on the sample CT facet size 3.4 mm (distance
+  // 0.72) gives about 96,500 triangles, and the count goes as 1 / size².
+  bench::Mesh3Params m3;
+  m3.iso = iso;
+  m3.facet_size = 3.4 * std::sqrt(96500.0 / double(r.mesh.triangles.size()));
+  m3.facet_distance = 0.72 * m3.facet_size / 3.4;
+  m3.cell_size = r.volume_stats.size;
+  const bench::Mesh3Result cg = bench::cgal_mesh3(vol, m3);
+  fmt::print("CGAL Mesh_3: facet size {:.2f} mm, distance {:.2f} mm, cell size {:.2f} mm, radius-edge 3, perturb and "
+             "exude\n",
+             m3.facet_size, m3.facet_distance, m3.cell_size);
+  fmt::print("\n{:<14} {:>9} {:>9} {:>8} {:>8} {:>7} {:>7} {:>6} {:>8}\n", "mesh", "surface", "tets", "nodes",
+             "min dih", "%<10", "%<15", "RR", "time s");
+  row("ours", int64_t(r.mesh.triangles.size()), r.volume_stats.quality, t_all);
+  row("CGAL Mesh_3", int64_t(cg.mesh.triangles.size()), measure_tet_quality(cg.volume), cg.seconds);
+  fmt::print("(surface: triangles of the boundary; min dih: smallest dihedral angle, degrees; %<10, %<15: % of "
+             "tetrahedra with a dihedral angle under 10, 15 degrees; RR: mean radius ratio 3 r_in / r_circ; time: ours "
+             "from reading the file to the volume mesh, CGAL's Mesh_3 run)\n");
+  fmt::print("time ours / CGAL Mesh_3: {:.2f}\n", t_all / cg.seconds);
+  return 0;
+}
