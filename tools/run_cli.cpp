@@ -57,8 +57,8 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
                               pipeline::kRaise))
       ->check(CLI::Range(0, 8));
   cmd->add_option("--optimize-rounds", o.optimize_rounds,
-                  "rounds of mesh optimisation after the triangulation (Delaunay flips and centroidal relaxation on "
-                  "the surface); 0: none")
+                  "rounds of mesh optimisation after the triangulation (Delaunay flips, collapses of short edges and "
+                  "centroidal relaxation on the surface); 0: none")
       ->check(CLI::Range(0, 50))
       ->capture_default_str();
   add_tet_options(cmd, o.tet, "volume-");
@@ -186,7 +186,7 @@ nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeli
     return nlohmann::json{{"min_angle_deg", f.min_angle_deg}, {"pct_below_30_deg", f.pct_below_30}, {"radius_ratio_mean", f.radius_ratio}};
   };
   const OptimizeStats& op = r.optimization;
-  j["optimization"] = {{"rounds", op.rounds},     {"flips", op.flips},   {"moves", op.moves},
+  j["optimization"] = {{"rounds", op.rounds},     {"flips", op.flips},   {"moves", op.moves}, {"collapses", op.collapses},
                        {"retries", op.retries},   {"frozen", op.frozen}, {"seconds", op.seconds},
                        {"before", shape(op.before)}, {"after", shape(op.after)}};
   j["backend"] = backend_json(choice);

@@ -173,7 +173,7 @@ std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, Comp
   std::vector<Eigen::Vector3d> now = was;
   std::vector<char> moving(n, 0);
   for (size_t v = 0; v < n; ++v)
-    if (!frozen[v] && std::isfinite(st.distance[v]) && st.x[v].allFinite() && std::abs(st.distance[v]) < 1e-3 * spacing[v])
+    if (!frozen[v] && !vf[v].empty() && std::isfinite(st.distance[v]) && st.x[v].allFinite() && std::abs(st.distance[v]) < 1e-3 * spacing[v])
       now[v] = st.x[v], moving[v] = 1;
   // Keep the moves that keep their triangles, against the others' new places; a move
   // given up is tested against again by its neighbours, until none changes.
@@ -208,13 +208,138 @@ std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, Comp
   return moved;
 }
 
+// Step 2 of a round (see the header): the shortest edges of triangles under min_keep_deg
+// collapsed; returns how many. The removed vertex stays in the list, used by no triangle.
+int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  auto& T = m.triangles;
+  auto& x = m.vertices;
+  const auto vf = vertex_faces(m);
+  // The candidates: each poor triangle's shortest edge, the poorest first.
+  std::vector<std::pair<double, uint64_t>> poor;
+  for (const Tri& t : T) {
+    const double angle = triangle_min_angle_deg(x[t[0]], x[t[1]], x[t[2]]);
+    if (!(angle < opt.min_keep_deg)) continue;
+    int k = 0;
+    for (int e = 1; e < 3; ++e)
+      if ((x[t[size_t(e)]] - x[t[size_t((e + 1) % 3)]]).norm() < (x[t[size_t(k)]] - x[t[size_t((k + 1) % 3)]]).norm()) k = e;
+    poor.push_back({angle, edge_key(t[size_t(k)], t[size_t((k + 1) % 3)])});
+  }
+  std::sort(poor.begin(), poor.end());
+  std::vector<uint64_t> edges;
+  for (const auto& [angle, key] : poor)
+    if (std::find(edges.begin(), edges.end(), key) == edges.end()) edges.push_back(key);
+  if (edges.empty()) return 0;
+  // Their midpoints on f = 0.
+  particles::ParticleState mid;
+  mid.resize(edges.size());
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const uint32_t a = uint32_t(edges[i] >> 32), b = uint32_t(edges[i] & 0xffffffffu);
+    mid.x[i] = 0.5 * (x[a] + x[b]);
+    mid.sigma[i] = 0.5 * (spacing[a] + spacing[b]);
+  }
+  particles::StepParams p;
+  p.newton_steps = opt.newton_steps;
+  backend.particle_project(s, mid, p, false);
+  auto neighbours = [&](uint32_t v) {
+    std::vector<uint32_t> n;
+    for (uint32_t f : vf[v])
+      for (uint32_t w : T[f])
+        if (w != v) n.push_back(w);
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+    return n;
+  };
+  const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
+  std::vector<char> locked(x.size(), 0), gone(T.size(), 0);
+  int64_t done = 0;
+  for (size_t i = 0; i < edges.size(); ++i) {
+    const uint32_t a = uint32_t(edges[i] >> 32), b = uint32_t(edges[i] & 0xffffffffu);
+    if (frozen[a] || frozen[b]) continue;
+    const std::vector<uint32_t> na = neighbours(a), nb = neighbours(b);
+    std::vector<uint32_t> shared, ring = na;
+    std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(shared));
+    ring.insert(ring.end(), nb.begin(), nb.end());
+    // The link condition (the edge's two opposite vertices are all a and b share), each
+    // keeping three neighbours, and nothing near an earlier collapse of this pass.
+    if (shared.size() != 2 || neighbours(shared[0]).size() <= 3 || neighbours(shared[1]).size() <= 3 ||
+        na.size() + nb.size() < 7)
+      continue;
+    if (std::any_of(ring.begin(), ring.end(), [&](uint32_t v) { return locked[v]; })) continue;
+    // The triangles that stay, b renamed a; the best of three places for a: the midpoint
+    // on f = 0, a's place and b's. A place must keep every triangle within max_turn_deg
+    // of its old normal and raise the smallest angle around a and b.
+    std::vector<uint32_t> faces = vf[a], keep;
+    faces.insert(faces.end(), vf[b].begin(), vf[b].end());
+    std::sort(faces.begin(), faces.end());
+    faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
+    for (uint32_t f : faces)
+      if (std::count(T[f].begin(), T[f].end(), a) + std::count(T[f].begin(), T[f].end(), b) < 2) keep.push_back(f);
+    const double before = smallest_angle(x, T, faces);
+    const bool mid_ok = std::isfinite(mid.distance[i]) && std::abs(mid.distance[i]) < 1e-3 * mid.sigma[i];
+    double best = before;
+    Eigen::Vector3d best_at = x[a];
+    bool found = false;
+    for (const Eigen::Vector3d& at : {mid_ok ? mid.x[i] : x[a], x[a], x[b]}) {
+      double worst = 180;
+      for (uint32_t f : keep) {
+        Tri t = T[f];
+        for (uint32_t& v : t)
+          if (v == b) v = a;
+        const Eigen::Vector3d old_n = area_normal(x, T[f]);
+        const Eigen::Vector3d pa = at, p1 = t[0] == a ? pa : x[t[0]], p2 = t[1] == a ? pa : x[t[1]],
+                              p3 = t[2] == a ? pa : x[t[2]];
+        const Eigen::Vector3d new_n = (p2 - p1).cross(p3 - p1);
+        if (!(new_n.norm() > 0) || !(old_n.normalized().dot(new_n.normalized()) >= cos_turn)) {
+          worst = -1;
+          break;
+        }
+        worst = std::min(worst, triangle_min_angle_deg(p1, p2, p3));
+      }
+      if (worst > best + 1e-9) best = worst, best_at = at, found = true;
+    }
+    if (!found) continue;
+    for (uint32_t f : faces) {
+      if (std::find(keep.begin(), keep.end(), f) == keep.end()) {
+        gone[f] = 1;
+        continue;
+      }
+      for (uint32_t& v : T[f])
+        if (v == b) v = a;
+    }
+    x[a] = best_at;
+    for (uint32_t v : ring) locked[v] = 1;
+    locked[a] = locked[b] = 1;
+    ++done;
+  }
+  size_t n = 0;
+  for (size_t f = 0; f < T.size(); ++f)
+    if (!gone[f]) T[n++] = T[f];
+  T.resize(n);
+  return done;
+}
+
+// Drops the vertices no triangle uses, keeping the others' order.
+void drop_unused_vertices(TriangleMesh& m) {
+  std::vector<uint32_t> index(m.vertices.size(), UINT32_MAX);
+  for (const Tri& t : m.triangles)
+    for (uint32_t v : t) index[v] = 0;
+  uint32_t n = 0;
+  for (size_t v = 0; v < index.size(); ++v)
+    if (index[v] == 0) m.vertices[n] = m.vertices[v], index[v] = n++;
+  m.vertices.resize(n);
+  for (Tri& t : m.triangles)
+    for (uint32_t& v : t) v = index[v];
+}
+
 // The rounds, with the vertices `frozen` left as they are.
 void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen,
                      OptimizeStats& st) {
-  st.rounds = 0, st.flips = 0, st.moves = 0;
+  st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0;
   for (int round = 0; round < opt.rounds; ++round) {
     st.flips += int64_t(flip_pass(mesh, s, backend, opt, frozen).size());
+    st.collapses += collapse_pass(mesh, s, backend, spacing, opt, frozen);
     st.moves += int64_t(relax_pass(mesh, s, backend, spacing, vertex_faces(mesh), opt, frozen).size());
     ++st.rounds;
   }
@@ -257,13 +382,14 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
     st.retries = attempt + 1;
     if (attempt == 2) {
       mesh = input;
-      st.rounds = 0, st.flips = 0, st.moves = 0;
+      st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0;
       break;
     }
     for (const auto& [a, b] : pairs)
       for (uint32_t f : {a, b})
         for (uint32_t v : mesh.triangles[f]) st.frozen += !frozen[v], frozen[v] = 1;
   }
+  if (st.collapses > 0) drop_unused_vertices(mesh);
   st.after = shape_figures(mesh);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return st;

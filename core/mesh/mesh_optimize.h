@@ -5,7 +5,14 @@
 //    more than π) where the two triangles are nearly coplanar (their normals within
 //    max_flip_dihedral_deg) and the new edge's midpoint lies no farther from the surface
 //    than the old one's, or than flip_offset of the edge's length;
-// 2. moves every vertex to the density-weighted centroid of its triangles' centroids (a
+// 2. collapses the shortest edge of each triangle whose smallest angle is under
+//    min_keep_deg, the poorest first, where the mesh stays a manifold (the edge's ends
+//    share only its two opposite vertices, and each of those keeps three neighbours) and
+//    the merged vertex, at the edge's midpoint on f = 0 or at either end, turns no
+//    triangle by more than max_turn_deg and raises the smallest angle around it (a
+//    vertex of three or four triangles, or an edge much shorter than its neighbours',
+//    leaves a smallest angle near 20° that moves alone cannot raise);
+// 3. moves every vertex to the density-weighted centroid of its triangles' centroids (a
 //    centroidal Voronoi tessellation's step, Du, Faber and Gunzburger 1999, restricted to
 //    the surface; density 1 / s⁴ for a target spacing s, so that the particles' adaptive
 //    sizes stay), within the tangent plane, then back onto f = 0 by Newton steps on the
@@ -16,7 +23,8 @@
 // vertices frozen and the rounds are done again; after three tries, the mesh is kept as
 // it was.
 // The mesh stays a closed oriented manifold: flips keep the link condition (the new edge
-// is no edge yet), and moves change no connectivity.
+// is no edge yet), collapses keep it too, and moves change no connectivity. The vertices
+// collapsed away are dropped at the end (the others keep their order).
 #pragma once
 
 #include <cstdint>
@@ -33,7 +41,8 @@ struct OptimizeOptions {
   double max_flip_dihedral_deg = 30;  // the two triangles of a flipped edge
   double flip_offset = 0.05;          // of the edge's length
   double max_turn_deg = 30;           // a moved vertex's triangles
-  double min_keep_deg = 30;           // a move may lower a smallest angle that stays above this
+  double min_keep_deg = 30;           // a move may lower a smallest angle that stays above this;
+                                      // a triangle under it has its shortest edge collapsed
   int newton_steps = 3;
 };
 
@@ -46,6 +55,7 @@ ShapeFigures shape_figures(const TriangleMesh& m);
 struct OptimizeStats {
   int rounds = 0;
   int64_t flips = 0, moves = 0;   // over all rounds (a vertex moved in two rounds counts twice)
+  int64_t collapses = 0;          // edges collapsed, each removing a vertex and two triangles
   int retries = 0;                // rounds done again with frozen vertices (three: none kept)
   int64_t frozen = 0;             // vertices frozen for that
   ShapeFigures before, after;

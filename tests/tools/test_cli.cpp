@@ -274,7 +274,8 @@ TEST(Cli, RunOnTheSampleCt) {
   EXPECT_NE(j["notes"][0].get<std::string>().find("--particles 30000"), std::string::npos) << j["notes"][0];
   const auto& tr = j["triangulation"];
   EXPECT_EQ(j["particles"]["particles"].get<int64_t>() + tr["repair_points"].get<int64_t>() -
-                tr["unused_particles"].get<int64_t>() - tr["edge_collapses"].get<int64_t>(),
+                tr["unused_particles"].get<int64_t>() - tr["edge_collapses"].get<int64_t>() -
+                j["optimization"]["collapses"].get<int64_t>(),
             j["vertices"].get<int64_t>());
   // On the bone: distances to the marching-cubes surface of the same threshold. (Before the
   // triangulation ignored f beyond the points' bounding box, a sheet there put the 99th
