@@ -45,6 +45,9 @@ section "The whole job on the sample CT against its peers" \
 section "The sample CT at 45,000 particles against CGAL Mesh_3" \
   "The same at the count the speed target names, CGAL Mesh_3 with \`manifold()\` at a similar triangle count." \
   "$B/mpumesh_bench_run" "$ct" 226 45000 3.4 0.72
+section "Remeshing the sample CT's marching-cubes surface" \
+  "The marching-cubes surface written to a PLY file and remeshed by \`mpumesh run MC.ply --particles 45000\` and by CGAL's isotropic remeshing (three iterations) at the same triangle count, in this run; distances are to and from the marching-cubes surface." \
+  "$B/mpumesh_bench_remesh" "$ct" 226 45000
 section "Volume meshes" \
   "The sample CT's bone at 45,000 particles filled with tetrahedra (\`run --volume\`) against CGAL Mesh_3's volume mesh of the gray image (cell criteria, sliver perturbation and exudation) at about the same surface triangle count, in this run." \
   "$B/mpumesh_bench_volume" "$ct" 226 45000
