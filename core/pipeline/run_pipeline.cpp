@@ -16,6 +16,7 @@
 #include "mc/marching_cubes.h"
 #include "mesh/surface_attributes.h"
 #include "mesh/topology.h"
+#include "mesh/voxel_grid.h"
 #include "mpu/polygonize.h"
 #include "points/mesh_points.h"
 #include "segment/label_map.h"
@@ -74,6 +75,23 @@ PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
   run.r.input.mesh = true;
   run.r.input.vertices = in.vertices.size();
   run.r.input.triangles = in.triangles.size();
+  // A marching-cubes surface of a scan (its vertices on a voxel grid's edges) is fitted
+  // and sampled as the scan would be: the tolerance and the default count follow the
+  // grid's finest spacing (mesh/voxel_grid.h). Any other mesh is exact data.
+  if (const auto grid = voxel_grid_spacing(in)) {
+    const double voxel = grid->minCoeff();
+    run.opt.sample.voxel_size = voxel;
+    if (!(run.opt.fit.eps > 0)) {
+      mpu::Tolerance& t = run.r.tolerance;
+      t = mpu::volume_tolerance(cloud, voxel);
+      const std::string on_grid = fmt::format("the {:.3f} x {:.3f} x {:.3f} mm voxel grid the input's vertices lie on",
+                                              grid->x(), grid->y(), grid->z());
+      t.source = 3 * t.noise > t.pixel
+                     ? fmt::format("3 x the vertices' scatter ({:.3f} mm), above the finest spacing of {}", t.noise, on_grid)
+                     : fmt::format("the finest spacing of {}; the vertices' scatter is {:.3f} mm", on_grid, t.noise);
+      run.opt.fit.eps = run.r.tolerance.eps;
+    }
+  }
   if (run.opt.baselines) run.r.baselines.push_back({"input mesh", in});
   run.backend = &run.open();
   return cloud;

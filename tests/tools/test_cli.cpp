@@ -362,6 +362,18 @@ TEST(Cli, RunRemeshesASurfaceMesh) {
   const auto j = nlohmann::json::parse(read_file(dir + "/r.json"));
   EXPECT_EQ(j["input"]["kind"], "mesh");
   EXPECT_GT(j["quality"]["volume_mm3"].get<double>(), 0);
+  EXPECT_EQ(j["fit"]["eps_source"], "a quarter of the points' median spacing");  // exact data
+  // A marching-cubes surface carries its scan's staircase: it is fitted as the scan would
+  // be, at least to the grid's in-plane spacing (0.6 mm).
+  ASSERT_EQ(run("mc " + ball_phantom(dir) + " --threshold 0 -o " + dir + "/mc.ply --quiet").code, 0);
+  const Result mr = run("run " + dir + "/mc.ply --particles 1500 -o " + dir + "/remeshed.ply --report " + dir +
+                        "/mr.json --backend cpu --quiet");
+  ASSERT_EQ(mr.code, 0) << mr.out;
+  const auto mj = nlohmann::json::parse(read_file(dir + "/mr.json"));
+  EXPECT_NE(mj["fit"]["eps_source"].get<std::string>().find("voxel grid the input's vertices lie on"),
+            std::string::npos)
+      << mj["fit"]["eps_source"];
+  EXPECT_GE(mj["fit"]["eps_mm"].get<double>(), 0.6 - 1e-4);
 
   ASSERT_EQ(run("points " + ball_phantom(dir) + " --threshold 0 -o " + dir + "/p.ply --quiet").code, 0);
   ASSERT_EQ(run("fit " + dir + "/p.ply -o " + dir + "/s.mpu --quiet").code, 0);
