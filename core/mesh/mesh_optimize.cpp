@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -208,16 +209,12 @@ std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, Comp
   return moved;
 }
 
-// Step 2 of a round (see the header): the shortest edges of triangles under min_keep_deg
-// collapsed; returns how many. The removed vertex stays in the list, used by no triangle.
-int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
-  auto& T = m.triangles;
-  auto& x = m.vertices;
-  const auto vf = vertex_faces(m);
-  // The candidates: each poor triangle's shortest edge, the poorest first.
+// The shortest edge of each triangle under min_keep_deg, the poorest triangle's first,
+// each edge once.
+std::vector<uint64_t> poor_edges(const TriangleMesh& m, const OptimizeOptions& opt) {
+  const auto& x = m.vertices;
   std::vector<std::pair<double, uint64_t>> poor;
-  for (const Tri& t : T) {
+  for (const Tri& t : m.triangles) {
     const double angle = triangle_min_angle_deg(x[t[0]], x[t[1]], x[t[2]]);
     if (!(angle < opt.min_keep_deg)) continue;
     int k = 0;
@@ -227,20 +224,60 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
   }
   std::sort(poor.begin(), poor.end());
   std::vector<uint64_t> edges;
+  std::unordered_set<uint64_t> seen;
   for (const auto& [angle, key] : poor)
-    if (std::find(edges.begin(), edges.end(), key) == edges.end()) edges.push_back(key);
+    if (seen.insert(key).second) edges.push_back(key);
+  return edges;
+}
+
+// Where the merged vertex of the edge ab goes, of `places`: the one that keeps every
+// triangle of `keep` (b renamed a) within max_turn_deg of its old normal and gives the
+// largest smallest angle, when that beats `before`; nothing otherwise.
+std::optional<Eigen::Vector3d> best_merge_place(const std::vector<Eigen::Vector3d>& x, const std::vector<Tri>& T,
+                                                const std::vector<uint32_t>& keep, uint32_t a, uint32_t b,
+                                                const std::vector<Eigen::Vector3d>& places, double before,
+                                                const OptimizeOptions& opt) {
+  const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
+  double best = before;
+  std::optional<Eigen::Vector3d> best_at;
+  for (const Eigen::Vector3d& at : places) {
+    double worst = 180;
+    for (uint32_t f : keep) {
+      Eigen::Vector3d p[3];
+      for (int k = 0; k < 3; ++k) p[k] = T[f][size_t(k)] == a || T[f][size_t(k)] == b ? at : x[T[f][size_t(k)]];
+      const Eigen::Vector3d old_n = area_normal(x, T[f]), new_n = (p[1] - p[0]).cross(p[2] - p[0]);
+      if (!(new_n.norm() > 0) || !(old_n.normalized().dot(new_n.normalized()) >= cos_turn)) {
+        worst = -1;
+        break;
+      }
+      worst = std::min(worst, triangle_min_angle_deg(p[0], p[1], p[2]));
+    }
+    if (worst > best + 1e-9) best = worst, best_at = at;
+  }
+  return best_at;
+}
+
+// Step 2 of a round (see the header): the poor triangles' shortest edges collapsed;
+// returns how many. The removed vertex stays in the list, used by no triangle.
+int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  auto& T = m.triangles;
+  auto& x = m.vertices;
+  const std::vector<uint64_t> edges = poor_edges(m, opt);
   if (edges.empty()) return 0;
-  // Their midpoints on f = 0.
+  auto ends = [&](size_t i) { return std::pair{uint32_t(edges[i] >> 32), uint32_t(edges[i] & 0xffffffffu)}; };
+  // The edges' midpoints on f = 0 (on the backend).
   particles::ParticleState mid;
   mid.resize(edges.size());
   for (size_t i = 0; i < edges.size(); ++i) {
-    const uint32_t a = uint32_t(edges[i] >> 32), b = uint32_t(edges[i] & 0xffffffffu);
+    const auto [a, b] = ends(i);
     mid.x[i] = 0.5 * (x[a] + x[b]);
     mid.sigma[i] = 0.5 * (spacing[a] + spacing[b]);
   }
   particles::StepParams p;
   p.newton_steps = opt.newton_steps;
   backend.particle_project(s, mid, p, false);
+  const auto vf = vertex_faces(m);
   auto neighbours = [&](uint32_t v) {
     std::vector<uint32_t> n;
     for (uint32_t f : vf[v])
@@ -250,66 +287,40 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
     n.erase(std::unique(n.begin(), n.end()), n.end());
     return n;
   };
-  const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
   std::vector<char> locked(x.size(), 0), gone(T.size(), 0);
   int64_t done = 0;
   for (size_t i = 0; i < edges.size(); ++i) {
-    const uint32_t a = uint32_t(edges[i] >> 32), b = uint32_t(edges[i] & 0xffffffffu);
-    if (frozen[a] || frozen[b]) continue;
+    const auto [a, b] = ends(i);
     const std::vector<uint32_t> na = neighbours(a), nb = neighbours(b);
     std::vector<uint32_t> shared, ring = na;
     std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(shared));
     ring.insert(ring.end(), nb.begin(), nb.end());
     // The link condition (the edge's two opposite vertices are all a and b share), each
-    // keeping three neighbours, and nothing near an earlier collapse of this pass.
+    // keeping three neighbours, nothing frozen around and nothing near an earlier
+    // collapse of this pass.
     if (shared.size() != 2 || neighbours(shared[0]).size() <= 3 || neighbours(shared[1]).size() <= 3 ||
         na.size() + nb.size() < 7)
       continue;
-    if (std::any_of(ring.begin(), ring.end(), [&](uint32_t v) { return locked[v]; })) continue;
-    // The triangles that stay, b renamed a; the best of three places for a: the midpoint
-    // on f = 0, a's place and b's. A place must keep every triangle within max_turn_deg
-    // of its old normal and raise the smallest angle around a and b.
+    if (std::any_of(ring.begin(), ring.end(), [&](uint32_t v) { return locked[v] || frozen[v]; })) continue;
     std::vector<uint32_t> faces = vf[a], keep;
     faces.insert(faces.end(), vf[b].begin(), vf[b].end());
     std::sort(faces.begin(), faces.end());
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
     for (uint32_t f : faces)
       if (std::count(T[f].begin(), T[f].end(), a) + std::count(T[f].begin(), T[f].end(), b) < 2) keep.push_back(f);
-    const double before = smallest_angle(x, T, faces);
-    const bool mid_ok = std::isfinite(mid.distance[i]) && std::abs(mid.distance[i]) < 1e-3 * mid.sigma[i];
-    double best = before;
-    Eigen::Vector3d best_at = x[a];
-    bool found = false;
-    for (const Eigen::Vector3d& at : {mid_ok ? mid.x[i] : x[a], x[a], x[b]}) {
-      double worst = 180;
-      for (uint32_t f : keep) {
-        Tri t = T[f];
-        for (uint32_t& v : t)
-          if (v == b) v = a;
-        const Eigen::Vector3d old_n = area_normal(x, T[f]);
-        const Eigen::Vector3d pa = at, p1 = t[0] == a ? pa : x[t[0]], p2 = t[1] == a ? pa : x[t[1]],
-                              p3 = t[2] == a ? pa : x[t[2]];
-        const Eigen::Vector3d new_n = (p2 - p1).cross(p3 - p1);
-        if (!(new_n.norm() > 0) || !(old_n.normalized().dot(new_n.normalized()) >= cos_turn)) {
-          worst = -1;
-          break;
-        }
-        worst = std::min(worst, triangle_min_angle_deg(p1, p2, p3));
-      }
-      if (worst > best + 1e-9) best = worst, best_at = at, found = true;
-    }
-    if (!found) continue;
+    std::vector<Eigen::Vector3d> places;  // the midpoint on f = 0 first, then the ends
+    if (std::isfinite(mid.distance[i]) && std::abs(mid.distance[i]) < 1e-3 * mid.sigma[i]) places.push_back(mid.x[i]);
+    places.push_back(x[a]);
+    places.push_back(x[b]);
+    const auto at = best_merge_place(x, T, keep, a, b, places, smallest_angle(x, T, faces), opt);
+    if (!at) continue;
     for (uint32_t f : faces) {
-      if (std::find(keep.begin(), keep.end(), f) == keep.end()) {
-        gone[f] = 1;
-        continue;
-      }
+      gone[f] = std::find(keep.begin(), keep.end(), f) == keep.end();
       for (uint32_t& v : T[f])
         if (v == b) v = a;
     }
-    x[a] = best_at;
+    x[a] = *at;
     for (uint32_t v : ring) locked[v] = 1;
-    locked[a] = locked[b] = 1;
     ++done;
   }
   size_t n = 0;

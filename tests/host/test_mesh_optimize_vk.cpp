@@ -36,12 +36,14 @@ TEST(MeshOptimizeVk, MatchesTheCpuPath) {
   TriangleMesh a = start, b = start;
   CpuBackend cpu;
   const OptimizeStats sa = optimize_mesh(a, s, cpu, spacing), sb = optimize_mesh(b, s, *gpu, spacing);
+  EXPECT_EQ(sa.collapses, sb.collapses);
+  ASSERT_EQ(a.vertices.size(), b.vertices.size());
   double worst = 0;
   for (size_t v = 0; v < a.vertices.size(); ++v) worst = std::max(worst, (a.vertices[v] - b.vertices[v]).norm());
-  std::printf("CPU: %lld flips, radius ratio %.5f, smallest %.3f deg; GPU: %lld flips, %.5f, %.3f deg; vertices within "
-              "%.2e mm\n",
-              (long long)sa.flips, sa.after.radius_ratio, sa.after.min_angle_deg, (long long)sb.flips,
-              sb.after.radius_ratio, sb.after.min_angle_deg, worst);
+  std::printf("CPU: %lld flips, %lld collapses, radius ratio %.5f, smallest %.3f deg; GPU: %lld flips, %lld "
+              "collapses, %.5f, %.3f deg; vertices within %.2e mm\n",
+              (long long)sa.flips, (long long)sa.collapses, sa.after.radius_ratio, sa.after.min_angle_deg,
+              (long long)sb.flips, (long long)sb.collapses, sb.after.radius_ratio, sb.after.min_angle_deg, worst);
   EXPECT_GT(sa.after.radius_ratio, sa.before.radius_ratio);
   EXPECT_EQ(sa.flips, sb.flips);
   EXPECT_EQ(a.triangles, b.triangles);
