@@ -9,6 +9,7 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "geometry/drop_unused.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
 #include "mpu/mpu_eval_ref.h"
@@ -330,19 +331,6 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
   return done;
 }
 
-// Drops the vertices no triangle uses, keeping the others' order.
-void drop_unused_vertices(TriangleMesh& m) {
-  std::vector<uint32_t> index(m.vertices.size(), UINT32_MAX);
-  for (const Tri& t : m.triangles)
-    for (uint32_t v : t) index[v] = 0;
-  uint32_t n = 0;
-  for (size_t v = 0; v < index.size(); ++v)
-    if (index[v] == 0) m.vertices[n] = m.vertices[v], index[v] = n++;
-  m.vertices.resize(n);
-  for (Tri& t : m.triangles)
-    for (uint32_t& v : t) v = index[v];
-}
-
 // The rounds, with the vertices `frozen` left as they are.
 void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen,
@@ -400,7 +388,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
       for (uint32_t f : {a, b})
         for (uint32_t v : mesh.triangles[f]) st.frozen += !frozen[v], frozen[v] = 1;
   }
-  if (st.collapses > 0) drop_unused_vertices(mesh);
+  if (st.collapses > 0) drop_unused_points(mesh.vertices, mesh.triangles);
   st.after = shape_figures(mesh);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return st;

@@ -15,6 +15,7 @@
 
 #include "common/error.h"
 #include "common/kd_tree.h"
+#include "geometry/drop_unused.h"
 #include "mesh/topology.h"
 
 namespace mpumesh {
@@ -188,21 +189,6 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
   return m;
 }
 
-// Drops the nodes no tetrahedron uses (those of the cavities), keeping the others' order.
-void drop_unused_nodes(TetMesh& m) {
-  std::vector<uint32_t> index(m.nodes.size(), UINT32_MAX);
-  for (const auto& t : m.tets)
-    for (uint32_t v : t) index[v] = 0;
-  uint32_t n = 0;
-  for (size_t i = 0; i < index.size(); ++i)
-    if (index[i] == 0) m.nodes[n] = m.nodes[i], index[i] = n++;
-  m.nodes.resize(n);
-  for (auto& t : m.tets)
-    for (uint32_t& v : t) v = index[v];
-  for (auto& f : m.boundary)
-    for (uint32_t& v : f) v = index[v];
-}
-
 // Step 5: sliver perturbation (Tournois, Srinivasan and Alliez 2009 perturb the vertices
 // of slivers for the same end): each inner node of a tetrahedron whose smallest dihedral
 // angle is under kPerturbBelowDeg moves, within its star, to the place among 26
@@ -328,7 +314,7 @@ TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStat
     st.boundary_points = int64_t(std::unique(on.begin(), on.end()) - on.begin());
     st.interior_points -= st.boundary_points;
   }
-  drop_unused_nodes(m);
+  drop_unused_points(m.nodes, m.tets, m.boundary);  // the cavities' nodes
   st.quality = measure_tet_quality(m);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = st;
