@@ -147,14 +147,14 @@ std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, Comp
   const auto& T = m.triangles;
   const std::vector<Eigen::Vector3d> was = m.vertices;
   const size_t n = was.size();
-  // Each triangle's centroid and weight (area / s⁴, s its vertices' mean target).
+  // Each triangle's centroid and weight (area / s², s its vertices' mean target).
   std::vector<Eigen::Vector3d> centroid(T.size());
   std::vector<double> weight(T.size());
   tbb::parallel_for(size_t(0), T.size(), [&](size_t f) {
     const Tri& t = T[f];
     centroid[f] = (was[t[0]] + was[t[1]] + was[t[2]]) / 3;
     const double sp = (spacing[t[0]] + spacing[t[1]] + spacing[t[2]]) / 3;
-    weight[f] = 0.5 * area_normal(was, t).norm() / (sp * sp * sp * sp);
+    weight[f] = 0.5 * area_normal(was, t).norm() / (sp * sp);
   });
   // The centroids, within each vertex's tangent plane (the mean of its triangles'
   // normals), then onto f = 0 on the backend.

@@ -14,8 +14,11 @@
 //    leaves a smallest angle near 20° that moves alone cannot raise);
 // 3. moves every vertex to the density-weighted centroid of its triangles' centroids (a
 //    centroidal Voronoi tessellation's step, Du, Faber and Gunzburger 1999, restricted to
-//    the surface; density 1 / s⁴ for a target spacing s, so that the particles' adaptive
-//    sizes stay), within the tangent plane, then back onto f = 0 by Newton steps on the
+//    the surface; density 1 / s² for a target spacing s: the vertices a unit of area
+//    holds at that spacing. The particles already put the vertices at their sizes; a
+//    step evens the shapes and keeps the sizes. At 1 / s⁴, whose centroidal cells have
+//    size s, each step pulls the vertices up the size gradient and skews the triangles
+//    there), within the tangent plane, then back onto f = 0 by Newton steps on the
 //    compute backend (ComputeBackend::particle_project, as the particles are). A move is
 //    kept when no triangle around the vertex turns by more than max_turn_deg and the
 //    smallest angle around it does not fall (or stays at least min_keep_deg).
