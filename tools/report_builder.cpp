@@ -297,17 +297,10 @@ void add_histograms(report::HtmlPage& page, const std::vector<ReportMesh>& all,
 // and the particles' figures from run's report.
 void add_adaptivity(report::HtmlPage& page, const TriangleMesh& ours, const nlohmann::json& run,
                     const std::string& k_source) {
-  std::vector<double> len_sum(ours.vertices.size(), 0.0), len_n(ours.vertices.size(), 0.0);
-  for (const auto& t : ours.triangles)
-    for (int c = 0; c < 3; ++c) {
-      const uint32_t a = t[size_t(c)], b = t[size_t((c + 1) % 3)];
-      const double e = (ours.vertices[a] - ours.vertices[b]).norm();
-      len_sum[a] += e, len_n[a] += 1, len_sum[b] += e, len_n[b] += 1;
-    }
-  const std::vector<double> gauss = gauss_at_mesh_scale(ours);
+  const std::vector<double> gauss = gauss_at_mesh_scale(ours), edge = mean_edge_lengths(ours);
   std::vector<double> absk, spacing;
   for (size_t i = 0; i < ours.vertices.size(); ++i)
-    if (len_n[i] > 0) absk.push_back(std::abs(gauss[i])), spacing.push_back(len_sum[i] / len_n[i]);
+    if (edge[i] > 0) absk.push_back(std::abs(gauss[i])), spacing.push_back(edge[i]);
   const double rho = particles::rank_correlation(absk, spacing);
   std::vector<double> sx, sy;
   const size_t stride = std::max<size_t>(1, absk.size() / 4000);

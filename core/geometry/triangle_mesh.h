@@ -25,4 +25,18 @@ inline uint64_t edge_key(uint32_t a, uint32_t b) {
   return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
 
+// The mean length of the edges at each vertex (0 at a vertex no triangle uses): the
+// mesh's local spacing.
+inline std::vector<double> mean_edge_lengths(const TriangleMesh& m) {
+  std::vector<double> sum(m.vertices.size(), 0.0), n(m.vertices.size(), 0.0);
+  for (const auto& t : m.triangles)
+    for (size_t k = 0; k < 3; ++k) {
+      const uint32_t a = t[k], b = t[(k + 1) % 3];
+      const double e = (m.vertices[a] - m.vertices[b]).norm();
+      sum[a] += e, n[a] += 1, sum[b] += e, n[b] += 1;
+    }
+  for (size_t i = 0; i < sum.size(); ++i) sum[i] = n[i] > 0 ? sum[i] / n[i] : 0.0;
+  return sum;
+}
+
 }  // namespace mpumesh

@@ -37,8 +37,6 @@ std::vector<std::vector<uint32_t>> vertex_faces(const TriangleMesh& m) {
   return vf;
 }
 
-uint64_t edge_key(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a; }
-
 // The distance of each point from the surface: |f| (on the backend), which is about the
 // distance in mm near f = 0 (mpu_surface.h).
 std::vector<double> surface_distances(const mpu::MpuSurface& s, ComputeBackend& backend,

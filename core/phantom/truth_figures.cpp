@@ -45,19 +45,6 @@ std::vector<double> discrete_gauss(const TriangleMesh& m) {
   return deficit;
 }
 
-// Mean length of the edges at each vertex.
-std::vector<double> vertex_spacing(const TriangleMesh& m) {
-  std::vector<double> sum(m.vertices.size(), 0), n(m.vertices.size(), 0);
-  for (const auto& t : m.triangles)
-    for (int c = 0; c < 3; ++c) {
-      const uint32_t a = t[c], b = t[(c + 1) % 3];
-      const double l = (m.vertices[a] - m.vertices[b]).norm();
-      sum[a] += l, sum[b] += l, n[a] += 1, n[b] += 1;
-    }
-  for (size_t i = 0; i < sum.size(); ++i) sum[i] = n[i] > 0 ? sum[i] / n[i] : 0;
-  return sum;
-}
-
 }  // namespace
 
 TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
@@ -95,7 +82,7 @@ TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
   for (size_t i = 0; i < nv; ++i) err[i] = std::abs(k[i] - gauss[i]);
   f.gauss_median_error = median(err) / shape.max_abs_gauss();
 
-  const std::vector<double> spacing = vertex_spacing(m);
+  const std::vector<double> spacing = mean_edge_lengths(m);
   std::vector<double> absk(nv);
   for (size_t i = 0; i < nv; ++i) absk[i] = std::abs(gauss[i]);
   f.spacing_rank = particles::rank_correlation(spacing, absk);

@@ -21,19 +21,6 @@
 namespace mpumesh {
 namespace {
 
-// The mean length of the edges at each vertex.
-std::vector<double> vertex_spacing(const TriangleMesh& m) {
-  std::vector<double> sum(m.vertices.size(), 0.0), n(m.vertices.size(), 0.0);
-  for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
-      const double e = (m.vertices[a] - m.vertices[b]).norm();
-      sum[a] += e, n[a] += 1, sum[b] += e, n[b] += 1;
-    }
-  for (size_t i = 0; i < sum.size(); ++i) sum[i] = n[i] > 0 ? sum[i] / n[i] : 0.0;
-  return sum;
-}
-
 // The surface as TetGen's piecewise linear complex.
 void to_tetgen(const TriangleMesh& m, tetgenio& in) {
   in.firstnumber = 0;
@@ -201,14 +188,8 @@ constexpr double kPerturbBelowDeg = 10;
 double min_dihedral_if_positive(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                                 const Eigen::Vector3d& d) {
   if (!((b - a).dot((c - a).cross(d - a)) > 0)) return -1;
-  const Eigen::Vector3d p[4] = {a, b, c, d};
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-  Eigen::Vector3d n[4];
-  for (int k = 0; k < 4; ++k) n[k] = (p[kFace[k][1]] - p[kFace[k][0]]).cross(p[kFace[k][2]] - p[kFace[k][0]]).normalized();
-  double largest_cos = -1;  // the smallest interior angle has the largest -n_i . n_j
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) largest_cos = std::max(largest_cos, -n[i].dot(n[j]));
-  return std::acos(std::clamp(largest_cos, -1.0, 1.0)) * 180 / M_PI;
+  const std::array<double, 6> angle = dihedral_angles(a, b, c, d);
+  return *std::min_element(angle.begin(), angle.end());
 }
 int64_t perturb_slivers(TetMesh& m, uint32_t surface_nodes) {
   std::vector<std::vector<uint32_t>> star(m.nodes.size());
@@ -272,7 +253,7 @@ TetMesh one_pass(const TriangleMesh& surface, const TetOptions& opt, double size
   tetgenio in, coarse, out;
   to_tetgen(surface, in);
   run_tetgen("pYq2.0Q", in, coarse);
-  graded_sizes(coarse, surface, vertex_spacing(surface), opt, size);
+  graded_sizes(coarse, surface, mean_edge_lengths(surface), opt, size);
   run_tetgen(fmt::format("rYq{}/{}mO{}/7Q", opt.radius_edge, opt.min_dihedral, opt.optimize_level), coarse, out);
   return to_mesh(out, surface, st);
 }
@@ -299,7 +280,7 @@ TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStat
   if (!(st.surface_volume > 0))
     throw InputError(fmt::format("tetmesh: the surface encloses {:.3g} mm3 (its triangles face inward): nothing to fill",
                                  st.surface_volume));
-  std::vector<double> spacing = vertex_spacing(input);
+  std::vector<double> spacing = mean_edge_lengths(input);
   std::nth_element(spacing.begin(), spacing.begin() + ptrdiff_t(spacing.size() / 2), spacing.end());
   st.size = opt.size > 0 ? opt.size : 4 * spacing[spacing.size() / 2];
   TetMesh m = one_pass(input, opt, st.size, st);
