@@ -106,16 +106,19 @@ void add_quality_command(CLI::App& app, CommonOptions& common, std::function<voi
   add_common(cmd, common);
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
-      if (is_tet_mesh_path(o->mesh)) {
-        if (!o->reference.empty()) throw InputError(o->mesh + ": --reference measures surfaces, not volume meshes");
-        const TetQuality q = measure_tet_quality(read_tet_mesh(o->mesh));
+      // The figures as JSON (with the mesh's path) or as text.
+      const auto print = [&](nlohmann::json j, const std::string& text) {
         if (common.json) {
-          nlohmann::json j = tet_quality_json(q);
           j["mesh"] = o->mesh;
           std::cout << j.dump(2) << '\n';
         } else if (!common.quiet) {
-          std::cout << o->mesh << "\n" << tet_quality_text(q);
+          std::cout << o->mesh << "\n" << text;
         }
+      };
+      if (is_tet_mesh_path(o->mesh)) {
+        if (!o->reference.empty()) throw InputError(o->mesh + ": --reference measures surfaces, not volume meshes");
+        const TetQuality q = measure_tet_quality(read_tet_mesh(o->mesh));
+        print(tet_quality_json(q), tet_quality_text(q));
         return;
       }
       TriangleMesh mesh = read_mesh(o->mesh);
@@ -127,13 +130,7 @@ void add_quality_command(CLI::App& app, CommonOptions& common, std::function<voi
         opt.reference = &ref;
       }
       const Quality q = measure_quality(mesh, opt);
-      if (common.json) {
-        nlohmann::json j = quality_to_json(q);
-        j["mesh"] = o->mesh;
-        std::cout << j.dump(2) << '\n';
-      } else if (!common.quiet) {
-        std::cout << o->mesh << "\n" << quality_to_text(q);
-      }
+      print(quality_to_json(q), quality_to_text(q));
     };
   });
 }

@@ -245,6 +245,22 @@ TetMesh read_vtu(const std::string& text, const std::string& path) {
   return m;
 }
 
+// A medit cell block after its keyword: the count, then per cell its 1-based nodes and
+// its reference.
+template <size_t N>
+void read_medit_cells(std::istream& in, std::vector<std::array<uint32_t, N>>& cells, std::vector<int32_t>& refs) {
+  size_t n;
+  in >> n;
+  for (size_t i = 0; i < n; ++i) {
+    std::array<uint32_t, N> c;
+    int32_t ref;
+    for (auto& v : c) in >> v, --v;
+    in >> ref;
+    cells.push_back(c);
+    refs.push_back(ref);
+  }
+}
+
 TetMesh read_medit(const std::string& text, const std::string& path) {
   std::istringstream in(text);
   TetMesh m;
@@ -259,27 +275,9 @@ TetMesh read_medit(const std::string& text, const std::string& path) {
         m.nodes.push_back(p);
       }
     } else if (word == "Tetrahedra") {
-      size_t n;
-      in >> n;
-      for (size_t i = 0; i < n; ++i) {
-        std::array<uint32_t, 4> t;
-        int32_t ref;
-        for (auto& v : t) in >> v, --v;
-        in >> ref;
-        m.tets.push_back(t);
-        m.region.push_back(ref);
-      }
+      read_medit_cells(in, m.tets, m.region);
     } else if (word == "Triangles") {
-      size_t n;
-      in >> n;
-      for (size_t i = 0; i < n; ++i) {
-        std::array<uint32_t, 3> f;
-        int32_t ref;
-        for (auto& v : f) in >> v, --v;
-        in >> ref;
-        m.boundary.push_back(f);
-        m.boundary_region.push_back(ref);
-      }
+      read_medit_cells(in, m.boundary, m.boundary_region);
     }
     if (!in && !in.eof()) bad(path, "cut short or malformed after " + word);
   }

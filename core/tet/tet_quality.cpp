@@ -6,30 +6,37 @@
 #include <cmath>
 
 namespace mpumesh {
+namespace {
+
+// The faces opposite each vertex, outward for a positively oriented tetrahedron.
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+}  // namespace
+
+std::array<double, 6> dihedral_angles(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                                      const Eigen::Vector3d& d) {
+  const Eigen::Vector3d p[4] = {a, b, c, d};
+  Eigen::Vector3d n[4];  // unit face normals, all outward or all inward
+  for (int k = 0; k < 4; ++k) n[k] = (p[kFace[k][1]] - p[kFace[k][0]]).cross(p[kFace[k][2]] - p[kFace[k][0]]).normalized();
+  // The interior angle between faces i and j: π minus the angle between their normals.
+  std::array<double, 6> angle;
+  int e = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j, ++e)
+      angle[size_t(e)] = 180 - std::acos(std::clamp(n[i].dot(n[j]), -1.0, 1.0)) * 180 / M_PI;
+  return angle;
+}
 
 TetShape tet_shape(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                    const Eigen::Vector3d& d) {
   TetShape s;
-  const Eigen::Vector3d p[4] = {a, b, c, d};
   s.volume = (b - a).dot((c - a).cross(d - a)) / 6;
-  // Outward face normals (faces opposite each vertex) and the total area.
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-  Eigen::Vector3d n[4];
+  const Eigen::Vector3d p[4] = {a, b, c, d};
   double area = 0;
-  for (int k = 0; k < 4; ++k) {
-    n[k] = (p[kFace[k][1]] - p[kFace[k][0]]).cross(p[kFace[k][2]] - p[kFace[k][0]]);
-    area += 0.5 * n[k].norm();
-    if (s.volume < 0) n[k] = -n[k];
-    n[k].normalize();
-  }
+  for (const auto& f : kFace) area += 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).norm();
   s.min_dihedral_deg = 180, s.max_dihedral_deg = 0;
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j) {
-      // The interior angle between faces i and j: π minus the angle between their normals.
-      const double angle = 180 - std::acos(std::clamp(n[i].dot(n[j]), -1.0, 1.0)) * 180 / M_PI;
-      s.min_dihedral_deg = std::min(s.min_dihedral_deg, angle);
-      s.max_dihedral_deg = std::max(s.max_dihedral_deg, angle);
-    }
+  for (double angle : dihedral_angles(a, b, c, d))
+    s.min_dihedral_deg = std::min(s.min_dihedral_deg, angle), s.max_dihedral_deg = std::max(s.max_dihedral_deg, angle);
   // r_in = 3 V / A; r_circ from the circumcentre c: |c - a| with 2 (p_k - a) · c' = |p_k - a|².
   const double r_in = area > 0 ? 3 * std::abs(s.volume) / area : 0;
   Eigen::Matrix3d M;
@@ -57,15 +64,9 @@ TetQuality measure_tet_quality(const TetMesh& m) {
     const auto& v = m.tets[t];
     const Eigen::Vector3d p[4] = {m.nodes[v[0]], m.nodes[v[1]], m.nodes[v[2]], m.nodes[v[3]]};
     shape[t] = tet_shape(p[0], p[1], p[2], p[3]);
-    static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-    Eigen::Vector3d n[4];
-    for (int k = 0; k < 4; ++k) n[k] = (p[kFace[k][1]] - p[kFace[k][0]]).cross(p[kFace[k][2]] - p[kFace[k][0]]).normalized();
-    int e = 0;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j, ++e) {
-        const double angle = 180 - std::acos(std::clamp(n[i].dot(n[j]), -1.0, 1.0)) * 180 / M_PI;
-        bins[t][size_t(e)] = uint8_t(std::isfinite(angle) ? std::clamp(int(angle / 5), 0, 35) : 0);
-      }
+    const std::array<double, 6> angle = dihedral_angles(p[0], p[1], p[2], p[3]);
+    for (size_t e = 0; e < 6; ++e)
+      bins[t][e] = uint8_t(std::isfinite(angle[e]) ? std::clamp(int(angle[e] / 5), 0, 35) : 0);
   });
   struct Acc {
     int64_t inverted = 0, below10 = 0, below15 = 0;
