@@ -329,16 +329,95 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
   return done;
 }
 
+// Step 4 (see the header): each vertex of a triangle still under polish_below_deg tries
+// places around it in its tangent plane (12 directions at 5, 15 and 30% of its shortest
+// edge, and its neighbours' mean), all put on f = 0 at once on the backend, and takes the
+// one that most raises the smallest angle around it, turning no triangle by more than
+// max_turn_deg. Returns the moves made.
+int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                    const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  const auto& T = m.triangles;
+  auto& x = m.vertices;
+  std::vector<uint32_t> verts;
+  for (const Tri& t : T)
+    if (triangle_min_angle_deg(x[t[0]], x[t[1]], x[t[2]]) < opt.polish_below_deg)
+      for (uint32_t v : t)
+        if (!frozen[v]) verts.push_back(v);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  if (verts.empty()) return 0;
+  const auto vf = vertex_faces(m);
+  constexpr int kDirections = 12;
+  constexpr double kSteps[] = {0.05, 0.15, 0.3};
+  constexpr size_t kPlaces = 1 + kDirections * std::size(kSteps);
+  particles::ParticleState st;
+  st.resize(verts.size() * kPlaces);
+  for (size_t i = 0; i < verts.size(); ++i) {
+    const uint32_t v = verts[i];
+    Eigen::Vector3d nrm = Eigen::Vector3d::Zero(), mean = Eigen::Vector3d::Zero();
+    double shortest = INFINITY;
+    int count = 0;
+    for (uint32_t f : vf[v]) {
+      nrm += area_normal(x, T[f]);
+      for (uint32_t w : T[f])
+        if (w != v) mean += x[w], ++count, shortest = std::min(shortest, (x[w] - x[v]).norm());
+    }
+    nrm.normalize();
+    const Eigen::Vector3d u = nrm.unitOrthogonal(), w = nrm.cross(u);
+    size_t k = i * kPlaces;
+    const Eigen::Vector3d to_mean = mean / count - x[v];
+    st.x[k++] = x[v] + to_mean - to_mean.dot(nrm) * nrm;
+    for (double step : kSteps)
+      for (int d = 0; d < kDirections; ++d) {
+        const double a = 2 * M_PI * d / kDirections;
+        st.x[k++] = x[v] + step * shortest * (std::cos(a) * u + std::sin(a) * w);
+      }
+    for (size_t j = i * kPlaces; j < k; ++j) st.sigma[j] = spacing[v];
+  }
+  particles::StepParams p;
+  p.newton_steps = opt.newton_steps;
+  backend.particle_project(s, st, p, false);
+  const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
+  int64_t moved = 0;
+  for (size_t i = 0; i < verts.size(); ++i) {
+    const uint32_t v = verts[i];
+    const Eigen::Vector3d home = x[v];
+    std::vector<Eigen::Vector3d> normals;
+    for (uint32_t f : vf[v]) normals.push_back(area_normal(x, T[f]).normalized());
+    double best = smallest_angle(x, T, vf[v]);
+    Eigen::Vector3d best_at = home;
+    for (size_t j = i * kPlaces; j < (i + 1) * kPlaces; ++j) {
+      if (!std::isfinite(st.distance[j]) || !(std::abs(st.distance[j]) < 1e-3 * spacing[v])) continue;
+      x[v] = st.x[j];
+      bool ok = true;
+      for (size_t q = 0; q < vf[v].size() && ok; ++q) {
+        const Eigen::Vector3d n = area_normal(x, T[vf[v][q]]);
+        ok = n.norm() > 0 && n.normalized().dot(normals[q]) >= cos_turn;
+      }
+      const double angle = ok ? smallest_angle(x, T, vf[v]) : -1;
+      if (angle > best + 1e-9) best = angle, best_at = x[v];
+    }
+    x[v] = best_at;
+    moved += best_at != home;
+  }
+  return moved;
+}
+
 // The rounds, with the vertices `frozen` left as they are.
 void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen,
                      OptimizeStats& st) {
-  st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0;
+  st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0;
   for (int round = 0; round < opt.rounds; ++round) {
     st.flips += int64_t(flip_pass(mesh, s, backend, opt, frozen).size());
     st.collapses += collapse_pass(mesh, s, backend, spacing, opt, frozen);
     st.moves += int64_t(relax_pass(mesh, s, backend, spacing, vertex_faces(mesh), opt, frozen).size());
     ++st.rounds;
+  }
+  for (int pass = 0; opt.rounds > 0 && pass < opt.polish_passes; ++pass) {
+    const int64_t moved = polish_pass(mesh, s, backend, spacing, opt, frozen);
+    st.polish_moves += moved;
+    if (moved == 0) break;
   }
 }
 
@@ -379,7 +458,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
     st.retries = attempt + 1;
     if (attempt == 2) {
       mesh = input;
-      st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0;
+      st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0;
       break;
     }
     for (const auto& [a, b] : pairs)

@@ -22,6 +22,11 @@
 //    compute backend (ComputeBackend::particle_project, as the particles are). A move is
 //    kept when no triangle around the vertex turns by more than max_turn_deg and the
 //    smallest angle around it does not fall (or stays at least min_keep_deg).
+// 4. After the rounds, the vertices of triangles still under polish_below_deg move, one by
+//    one, to the place near them on f = 0 that most raises the smallest angle around them
+//    (a search in the tangent plane, a few passes), turning no triangle by more than
+//    max_turn_deg: the rounds' centroids even the shapes on the whole but leave a few
+//    triangles near 20° where the surface folds sharply (the rim of a thin plate).
 // Triangles that then cross others (exact predicates, mesh/cgal_geometry.h) have their
 // vertices frozen and the rounds are done again; after three tries, the mesh is kept as
 // it was.
@@ -46,6 +51,8 @@ struct OptimizeOptions {
   double max_turn_deg = 30;           // a moved vertex's triangles
   double min_keep_deg = 30;           // a move may lower a smallest angle that stays above this;
                                       // a triangle under it has its shortest edge collapsed
+  double polish_below_deg = 25;       // step 4's triangles
+  int polish_passes = 4;              // 0: no step 4
   int newton_steps = 3;
 };
 
@@ -59,6 +66,7 @@ struct OptimizeStats {
   int rounds = 0;
   int64_t flips = 0, moves = 0;   // over all rounds (a vertex moved in two rounds counts twice)
   int64_t collapses = 0;          // edges collapsed, each removing a vertex and two triangles
+  int64_t polish_moves = 0;       // step 4's
   int retries = 0;                // rounds done again with frozen vertices (three: none kept)
   int64_t frozen = 0;             // vertices frozen for that
   ShapeFigures before, after;

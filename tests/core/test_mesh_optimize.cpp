@@ -113,5 +113,35 @@ TEST(MeshOptimize, KeepsTheSizesItIsGiven) {
   EXPECT_GT(share_right(m), share_right(even) + 0.01);
 }
 
+TEST(MeshOptimize, PolishesASpeckOfFourVertices) {
+  // A 2 mm sphere meshed by a lopsided tetrahedron (a speck of bone that caught four
+  // particles): no edge can collapse and the centroids alone leave it poor; the polishing
+  // moves make it nearly regular, on f = 0.
+  const test::AnalyticShape shape{test::AnalyticShape::kSphere, 2, 2, 2};
+  const mpu::MpuSurface surface = mpu::fit_mpu(test::sample_shape(shape, 0.1, 0.1, true), {});
+  TriangleMesh speck;
+  const double z = -2.0 / 3, rho = std::sqrt(4 - z * z);
+  speck.vertices = {{0, 0, 2}};
+  for (double deg : {0.0, 25.0, 200.0})
+    speck.vertices.push_back({rho * std::cos(deg * M_PI / 180), rho * std::sin(deg * M_PI / 180), z});
+  speck.triangles = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+  for (auto& v : speck.vertices) particles::newton_project(surface, v, 8, 1.0);
+  const std::vector<double> spacing(4, 3.0);
+  CpuBackend cpu;
+  TriangleMesh unpolished = speck, polished = speck;
+  OptimizeOptions none;
+  none.polish_passes = 0;
+  const OptimizeStats a = optimize_mesh(unpolished, surface, cpu, spacing, none);
+  const OptimizeStats b = optimize_mesh(polished, surface, cpu, spacing);
+  std::printf("smallest angle: %.2f deg before, %.2f without polishing, %.2f with (%lld polishing moves)\n",
+              a.before.min_angle_deg, a.after.min_angle_deg, b.after.min_angle_deg, (long long)b.polish_moves);
+  EXPECT_LT(a.after.min_angle_deg, 25.0);
+  EXPECT_GT(b.polish_moves, 0);
+  EXPECT_GE(b.after.min_angle_deg, 25.0);
+  EXPECT_EQ(polished.triangles, speck.triangles);
+  EXPECT_TRUE(analyze_topology(polished).oriented);
+  for (const auto& v : polished.vertices) EXPECT_LT(std::abs(mpu::evaluate_f(surface, v)), 1e-6);
+}
+
 }  // namespace
 }  // namespace mpumesh
