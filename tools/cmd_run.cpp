@@ -46,7 +46,7 @@ class RunObserver : public pipeline::Observer {
 
 void print_summary(const RunCli& o, const std::string& output, const pipeline::RunResult& r,
                    const vk::BackendChoice& choice) {
-  if (o.components.active()) std::cout << components_text(r.components_kept, r.components_dropped);
+  if (r.components.active()) std::cout << components_text(r.components_kept, r.components_dropped);
   if (r.has_quality)
     std::cout << output << ": " << r.mesh.triangles.size() << " triangles from " << r.particles.size()
               << " particles (" << choice.backend->device() << ")\n"

@@ -17,6 +17,7 @@ nlohmann::json components_json(const ComponentFilter& f, int64_t kept, const std
   nlohmann::json d = nlohmann::json::array();
   for (const DroppedComponent& c : dropped)
     d.push_back({{"triangles", c.triangles},
+                 {"vertices", c.vertices},
                  {"volume_mm3", c.volume_mm3},
                  {"centre_mm", {c.centre.x(), c.centre.y(), c.centre.z()}}});
   return {{"largest", f.largest}, {"min_volume_mm3", f.min_volume_mm3}, {"kept", kept}, {"dropped", d}};

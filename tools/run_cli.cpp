@@ -63,6 +63,9 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
       ->capture_default_str();
   add_tet_options(cmd, o.tet, "volume-");
   add_component_options(cmd, o.components);
+  cmd->add_flag("--keep-specks", o.keep_specks,
+                "keep the structures that enclose less than a tenth of a voxel (from a volume they are dropped: below "
+                "what the scan resolves)");
   add_backend_options(cmd, o.backend);
   cmd->add_option("--threads", o.threads, "use at most this many threads (default: every core)")
       ->check(CLI::PositiveNumber);
@@ -135,6 +138,7 @@ pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common) {
   r.volume_mesh = !o.volume.empty();
   r.tet = o.tet;
   r.components = o.components;
+  if (o.keep_specks) r.speck_voxels = 0;
   r.quality = !o.report.empty() || common.json || !common.quiet;
   r.quality_options.self_intersections = o.self_intersections;
   r.baselines = !o.html.empty();
@@ -194,7 +198,7 @@ nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeli
   j["output"] = output;
   j["vertices"] = r.mesh.vertices.size();
   j["triangles"] = r.mesh.triangles.size();
-  if (o.components.active()) j["components_filter"] = components_json(o.components, r.components_kept, r.components_dropped);
+  if (r.components.active()) j["components_filter"] = components_json(r.components, r.components_kept, r.components_dropped);
   if (r.has_volume) {
     j["volume_mesh"] = tet_json(o.tet, r.volume_stats);
     j["volume_mesh"]["output"] = o.volume;

@@ -27,7 +27,7 @@ struct RunCli {
   mpu::FitOptions fit;
   particles::SampleOptions sample;
   BackendOptions backend;
-  bool self_intersections = true, ruled_caps = false;
+  bool self_intersections = true, ruled_caps = false, keep_specks = false;
   int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
   int optimize_rounds = OptimizeOptions{}.rounds;
   ComponentFilter components;

@@ -92,12 +92,15 @@ FilteredMesh filter_components(const TriangleMesh& m, const ComponentFilter& fil
     DroppedComponent d;
     d.volume_mm3 = net(k);
     int64_t corners = 0;
+    std::vector<uint32_t> used;
     for (int32_t q : parts)
       for (uint32_t f : c[size_t(q)].triangles) {
         ++d.triangles;
-        for (uint32_t v : m.triangles[f]) d.centre += m.vertices[v], ++corners;
+        for (uint32_t v : m.triangles[f]) d.centre += m.vertices[v], ++corners, used.push_back(v);
       }
     d.centre /= double(std::max<int64_t>(corners, 1));
+    std::sort(used.begin(), used.end());
+    d.vertices = int64_t(std::unique(used.begin(), used.end()) - used.begin());
     out.dropped.push_back(d);
   }
   // The kept triangles and their vertices, in their order, with the attributes.

@@ -22,7 +22,7 @@ struct ComponentFilter {
 };
 
 struct DroppedComponent {
-  int64_t triangles = 0;
+  int64_t triangles = 0, vertices = 0;
   double volume_mm3 = 0;  // the shell's, less its cavities'
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // of its vertices
 };

@@ -10,6 +10,7 @@
 #include <unordered_set>
 
 #include "geometry/drop_unused.h"
+#include "geometry/tet_mesh.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
 #include "mpu/mpu_eval_ref.h"
@@ -329,6 +330,54 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
   return done;
 }
 
+// Step 4's first part (see the header): each vertex of three triangles whose tetrahedron
+// with its three neighbours has a dihedral angle under flat_cap_deg is removed, the
+// triangle of its neighbours taking its three, where that triangle is no triangle yet,
+// each neighbour keeps three triangles and the triangle's smallest angle is at least the
+// three's, or polish_below_deg. The three triangles' area vectors add up to the new
+// one's, so it faces as they did. Returns how many (each a vertex and two triangles
+// fewer); the removed vertex stays in the list, used by no triangle.
+int64_t remove_flat_caps(TriangleMesh& m, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  auto& T = m.triangles;
+  const auto& x = m.vertices;
+  const auto vf = vertex_faces(m);
+  std::vector<char> locked(x.size(), 0), gone(T.size(), 0);
+  int64_t done = 0;
+  for (uint32_t v = 0; v < x.size(); ++v) {
+    if (vf[v].size() != 3 || frozen[v] || locked[v]) continue;
+    // The ring a, b, c in the order of v's triangles (v, a, b), (v, b, c), (v, c, a).
+    const Tri& first = T[vf[v][0]];
+    const int i = int(std::find(first.begin(), first.end(), v) - first.begin());
+    const uint32_t a = first[size_t((i + 1) % 3)], b = first[size_t((i + 2) % 3)];
+    uint32_t c = UINT32_MAX;
+    for (uint32_t f : vf[v])
+      for (uint32_t w : T[f])
+        if (w != v && w != a && w != b) c = w;
+    const Tri merged = {a, b, c};
+    if (c == UINT32_MAX ||
+        std::any_of(merged.begin(), merged.end(), [&](uint32_t w) { return frozen[w] || locked[w] || vf[w].size() <= 3; }))
+      continue;
+    const std::array<double, 6> dihedral = dihedral_angles(x[v], x[a], x[b], x[c]);
+    if (!(*std::min_element(dihedral.begin(), dihedral.end()) < opt.flat_cap_deg)) continue;
+    const double angle = triangle_min_angle_deg(x[a], x[b], x[c]);
+    if (!(angle >= std::min(opt.polish_below_deg, smallest_angle(x, T, vf[v])))) continue;
+    bool exists = false;  // abc already a triangle (a speck of four vertices)
+    for (uint32_t f : vf[a])
+      exists = exists || (std::count(T[f].begin(), T[f].end(), b) && std::count(T[f].begin(), T[f].end(), c) &&
+                          !std::count(T[f].begin(), T[f].end(), v));
+    if (exists) continue;
+    T[vf[v][0]] = merged;
+    gone[vf[v][1]] = gone[vf[v][2]] = 1;
+    locked[v] = locked[a] = locked[b] = locked[c] = 1;
+    ++done;
+  }
+  size_t k = 0;
+  for (size_t f = 0; f < T.size(); ++f)
+    if (!gone[f]) T[k++] = T[f];
+  T.resize(k);
+  return done;
+}
+
 // Step 4 (see the header): each vertex of a triangle still under polish_below_deg tries
 // places around it in its tangent plane (12 directions at 5, 15 and 30% of its shortest
 // edge, and its neighbours' mean), all put on f = 0 at once on the backend, and takes the
@@ -414,6 +463,7 @@ void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBacken
     st.moves += int64_t(relax_pass(mesh, s, backend, spacing, vertex_faces(mesh), opt, frozen).size());
     ++st.rounds;
   }
+  if (opt.rounds > 0) st.collapses += remove_flat_caps(mesh, opt, frozen);
   for (int pass = 0; opt.rounds > 0 && pass < opt.polish_passes; ++pass) {
     const int64_t moved = polish_pass(mesh, s, backend, spacing, opt, frozen);
     st.polish_moves += moved;

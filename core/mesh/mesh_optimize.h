@@ -22,7 +22,12 @@
 //    compute backend (ComputeBackend::particle_project, as the particles are). A move is
 //    kept when no triangle around the vertex turns by more than max_turn_deg and the
 //    smallest angle around it does not fall (or stays at least min_keep_deg).
-// 4. After the rounds, the vertices of triangles still under polish_below_deg move, one by
+// 4. After the rounds, a vertex of three triangles whose tetrahedron with its three
+//    neighbours has a dihedral angle under flat_cap_deg is removed (the triangle of its
+//    neighbours takes its three, where its smallest angle is no worse): such a vertex sits
+//    within a fraction of an edge of that triangle, on a flat patch or at the tip of a
+//    knife-edge rim, and that tetrahedron is the one a volume mesh must have there. Then
+//    the vertices of triangles still under polish_below_deg move, one by
 //    one, to the place near them on f = 0 that most raises the smallest angle around them
 //    (a search in the tangent plane, a few passes), turning no triangle by more than
 //    max_turn_deg: the rounds' centroids even the shapes on the whole but leave a few
@@ -51,6 +56,7 @@ struct OptimizeOptions {
   double max_turn_deg = 30;           // a moved vertex's triangles
   double min_keep_deg = 30;           // a move may lower a smallest angle that stays above this;
                                       // a triangle under it has its shortest edge collapsed
+  double flat_cap_deg = 15;           // step 4's vertices of three triangles
   double polish_below_deg = 25;       // step 4's triangles
   int polish_passes = 4;              // 0: no step 4
   int newton_steps = 3;

@@ -226,8 +226,8 @@ void attach_and_check(Run& run) {
 // The components the filter keeps (mesh/component_filter.h); none left is an error.
 void keep_components(Run& run) {
   RunResult& r = run.r;
-  FilteredMesh f = stage(run.obs, "keep components", [&] { return filter_components(r.mesh, run.opt.components); });
-  require_kept(f, run.opt.components, run.input);
+  FilteredMesh f = stage(run.obs, "keep components", [&] { return filter_components(r.mesh, r.components); });
+  require_kept(f, r.components, run.input);
   r.mesh = std::move(f.mesh);
   r.components_kept = f.kept;
   r.components_dropped = std::move(f.dropped);
@@ -272,9 +272,13 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   r.fit_options = run.opt.fit;
   r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, run.opt.fit, &r.fit); });
   sample_and_triangulate(run, cloud);
+  r.components = options.components;
+  if (scan && options.speck_voxels > 0)
+    r.components.min_volume_mm3 =
+        std::max(r.components.min_volume_mm3, options.speck_voxels * scan->spacing.prod());
+  if (r.components.active()) keep_components(run);  // before the optimisation, which then has less to do
   optimize(run);
   attach_and_check(run);
-  if (options.components.active()) keep_components(run);
   if (options.quality) {
     r.quality = stage(run.obs, "quality", [&] { return measure_quality(r.mesh, options.quality_options); });
     r.has_quality = true;

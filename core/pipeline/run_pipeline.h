@@ -2,9 +2,10 @@
 // CT/MR volume (or a closed surface mesh, to remesh it) to a closed, oriented, adaptive
 // mesh on the fitted MPU surface. Its stages, in order:
 //   read -> segment (volumes) -> points -> fit -> sample and triangulate (sampling again
-//   with more particles while the triangulation shows the sample too sparse) -> optimise
-//   the mesh -> surface attributes -> checks -> the components kept (optional) -> quality (optional) -> the
-//   report's baselines (optional).
+//   with more particles while the triangulation shows the sample too sparse) -> the
+//   components kept (--largest, --min-volume; from a volume, specks under a tenth of a
+//   voxel dropped) -> optimise the mesh -> surface attributes -> checks -> quality
+//   (optional) -> the volume mesh (optional) -> the report's baselines (optional).
 // Writing the outputs, and turning the result into text, JSON and HTML, are the caller's.
 #pragma once
 
@@ -58,6 +59,11 @@ struct RunOptions {
   bool volume_mesh = false;
   TetOptions tet;
   ComponentFilter components;  // the structures to keep (--largest, --min-volume)
+  // From a volume, the closed structures enclosing less than this many voxels are dropped
+  // too (0: kept): a speck that small is below what the scan resolves (a sliver of one
+  // voxel's partial volume), and the particles mesh it with four vertices, whose flat
+  // tetrahedron has triangles and a volume mesh of poor shape.
+  double speck_voxels = 0.1;
   bool quality = true;  // measure the mesh's quality (RunResult::quality)
   QualityOptions quality_options;
   // Keep the report's baselines: marching cubes of the volume (or the input mesh) and the
@@ -111,7 +117,8 @@ struct RunResult {
   TetMesh volume;
   TetStats volume_stats;
   TriangleMesh mesh;
-  int64_t components_kept = 0;               // when RunOptions::components is active
+  ComponentFilter components;                // the filter applied (the options', with the specks' bound)
+  int64_t components_kept = 0;               // when `components` is active
   std::vector<DroppedComponent> components_dropped;
   bool has_quality = false;
   Quality quality;

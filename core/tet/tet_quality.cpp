@@ -6,34 +6,13 @@
 #include <cmath>
 
 namespace mpumesh {
-namespace {
-
-// The faces opposite each vertex, outward for a positively oriented tetrahedron.
-constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
-
-}  // namespace
-
-std::array<double, 6> dihedral_angles(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                                      const Eigen::Vector3d& d) {
-  const Eigen::Vector3d p[4] = {a, b, c, d};
-  Eigen::Vector3d n[4];  // unit face normals, all outward or all inward
-  for (int k = 0; k < 4; ++k) n[k] = (p[kFace[k][1]] - p[kFace[k][0]]).cross(p[kFace[k][2]] - p[kFace[k][0]]).normalized();
-  // The interior angle between faces i and j: π minus the angle between their normals.
-  std::array<double, 6> angle;
-  int e = 0;
-  for (int i = 0; i < 4; ++i)
-    for (int j = i + 1; j < 4; ++j, ++e)
-      angle[size_t(e)] = 180 - std::acos(std::clamp(n[i].dot(n[j]), -1.0, 1.0)) * 180 / M_PI;
-  return angle;
-}
-
 TetShape tet_shape(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                    const Eigen::Vector3d& d) {
   TetShape s;
   s.volume = (b - a).dot((c - a).cross(d - a)) / 6;
   const Eigen::Vector3d p[4] = {a, b, c, d};
   double area = 0;
-  for (const auto& f : kFace) area += 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).norm();
+  for (const auto& f : kTetFace) area += 0.5 * (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]).norm();
   s.min_dihedral_deg = 180, s.max_dihedral_deg = 0;
   for (double angle : dihedral_angles(a, b, c, d))
     s.min_dihedral_deg = std::min(s.min_dihedral_deg, angle), s.max_dihedral_deg = std::max(s.max_dihedral_deg, angle);

@@ -16,11 +16,7 @@ struct TetShape {
   double min_dihedral_deg = 0, max_dihedral_deg = 0;
   double radius_ratio = 0;
 };
-// The six dihedral angles (degrees) of abcd, whatever its orientation, in the order of
-// the face pairs (0,1), (0,2), (0,3), (1,2), (1,3), (2,3), face k the one opposite
-// vertex k.
-std::array<double, 6> dihedral_angles(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                                      const Eigen::Vector3d& d);
+// dihedral_angles: geometry/tet_mesh.h.
 TetShape tet_shape(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                    const Eigen::Vector3d& d);
 

@@ -44,11 +44,11 @@ void to_tetgen(const TriangleMesh& m, tetgenio& in) {
   }
 }
 
-// TetGen, its errors (it throws an int) as InputError.
-void run_tetgen(const std::string& switches, tetgenio& in, tetgenio& out) {
+// TetGen, its errors (it throws an int) as InputError; `addin`: points to insert (-i).
+void run_tetgen(const std::string& switches, tetgenio& in, tetgenio& out, tetgenio* addin = nullptr) {
   std::string s = switches;
   try {
-    tetrahedralize(s.data(), &in, &out);
+    tetrahedralize(s.data(), &in, &out, addin);
   } catch (int code) {
     static const std::map<int, std::string> kWhy = {
         {1, "out of memory"},
@@ -91,6 +91,70 @@ uint64_t face_key(uint32_t a, uint32_t b, uint32_t c) {
   return (uint64_t(v[0]) << 42) ^ (uint64_t(v[1]) << 21) ^ uint64_t(v[2]);
 }
 
+// The dihedral angle (degrees) under which a tetrahedron is mended (steps 3 and 5).
+constexpr double kPerturbBelowDeg = 10;
+
+// How far the ray from o along the unit d goes before it meets a triangle of m (INFINITY
+// when none): Möller and Trumbore's test against each.
+double ray_hit(const TriangleMesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  double nearest = INFINITY;
+  for (const auto& t : m.triangles) {
+    const Eigen::Vector3d& a = m.vertices[t[0]];
+    const Eigen::Vector3d e1 = m.vertices[t[1]] - a, e2 = m.vertices[t[2]] - a;
+    const Eigen::Vector3d p = d.cross(e2);
+    const double det = e1.dot(p);
+    if (std::abs(det) < 1e-300) continue;
+    const Eigen::Vector3d s = o - a;
+    const double u = s.dot(p) / det;
+    if (u < 0 || u > 1) continue;
+    const Eigen::Vector3d q = s.cross(e1);
+    const double v = d.dot(q) / det;
+    if (v < 0 || u + v > 1) continue;
+    const double along = e2.dot(q) / det;
+    if (along > 1e-9) nearest = std::min(nearest, along);
+  }
+  return nearest;
+}
+
+// Step 3's second part: a tetrahedron with a dihedral angle under kPerturbBelowDeg and two
+// or three of its faces on the surface lies flat under a fold of it, and no flip or move
+// of inner nodes mends it; a point beneath it (from its centroid along the inward normal
+// of its surface faces, half its mean edge deep, or half way to the surface's other side
+// where that is nearer: a plate) lets TetGen's refinement replace it. Returns those points.
+std::vector<Eigen::Vector3d> points_under_folds(const tetgenio& mesh, const TriangleMesh& surface) {
+  std::unordered_map<uint64_t, const std::array<uint32_t, 3>*> faces;
+  faces.reserve(surface.triangles.size() * 2);
+  for (const auto& t : surface.triangles) faces.emplace(face_key(t[0], t[1], t[2]), &t);
+  std::vector<Eigen::Vector3d> out;
+  for (int t = 0; t < mesh.numberoftetrahedra; ++t) {
+    std::array<int, 4> v;
+    std::array<Eigen::Vector3d, 4> p;
+    for (int k = 0; k < 4; ++k) {
+      v[size_t(k)] = mesh.tetrahedronlist[4 * t + k];
+      p[size_t(k)] = Eigen::Vector3d(mesh.pointlist + 3 * v[size_t(k)]);
+    }
+    if (*std::ranges::max_element(v) >= int(surface.vertices.size())) continue;  // an inner node: not flat under a fold
+    const std::array<double, 6> angle = dihedral_angles(p[0], p[1], p[2], p[3]);
+    if (!(*std::ranges::min_element(angle) < kPerturbBelowDeg)) continue;
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    int on_surface = 0;
+    for (const auto& f : kTetFace) {
+      const auto it = faces.find(face_key(uint32_t(v[size_t(f[0])]), uint32_t(v[size_t(f[1])]), uint32_t(v[size_t(f[2])])));
+      if (it == faces.end()) continue;
+      const auto& s = *it->second;
+      normal += (surface.vertices[s[1]] - surface.vertices[s[0]]).cross(surface.vertices[s[2]] - surface.vertices[s[0]]).normalized();
+      ++on_surface;
+    }
+    if (on_surface < 2 || !(normal.norm() > 0)) continue;
+    double edges = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) edges += (p[size_t(i)] - p[size_t(j)]).norm() / 6;
+    const Eigen::Vector3d centroid = (p[0] + p[1] + p[2] + p[3]) / 4, inward = -normal.normalized();
+    out.push_back(centroid + 0.5 * std::min(edges, ray_hit(surface, centroid, inward)) * inward);
+  }
+  return out;
+}
+
 // Step 4: the regions, without the cavities; the boundary triangles, outward.
 TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) {
   TetMesh m;
@@ -107,7 +171,6 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
   }
   // Faces: the surface's faces bound the regions (a cavity's wall has a tetrahedron on
   // either side); any other face joins the two tetrahedra that share it.
-  static constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};  // outward
   std::unordered_map<uint64_t, const std::array<uint32_t, 3>*> input;
   input.reserve(surface.triangles.size() * 2);
   for (const auto& t : surface.triangles) input.emplace(face_key(t[0], t[1], t[2]), &t);
@@ -123,7 +186,7 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
   for (uint32_t t = 0; t < nt; ++t)
     for (int f = 0; f < 4; ++f) {
       const auto& v = tets[t];
-      const uint64_t key = face_key(v[size_t(kFace[f][0])], v[size_t(kFace[f][1])], v[size_t(kFace[f][2])]);
+      const uint64_t key = face_key(v[size_t(kTetFace[f][0])], v[size_t(kTetFace[f][1])], v[size_t(kTetFace[f][2])]);
       if (input.count(key)) {
         faces.push_back({key, {t, f}});
         continue;
@@ -143,9 +206,9 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
   for (const auto& [key, tf] : faces) {
     const auto it = input.find(key);
     const auto& v = tets[tf.first];
-    const Eigen::Vector3d a = m.nodes[v[size_t(kFace[tf.second][0])]];
+    const Eigen::Vector3d a = m.nodes[v[size_t(kTetFace[tf.second][0])]];
     const Eigen::Vector3d out_normal =
-        (m.nodes[v[size_t(kFace[tf.second][1])]] - a).cross(m.nodes[v[size_t(kFace[tf.second][2])]] - a);
+        (m.nodes[v[size_t(kTetFace[tf.second][1])]] - a).cross(m.nodes[v[size_t(kTetFace[tf.second][2])]] - a);
     const auto& s = *it->second;
     const Eigen::Vector3d surface_normal = (m.nodes[s[1]] - m.nodes[s[0]]).cross(m.nodes[s[2]] - m.nodes[s[0]]);
     vote[root(tf.first)] += surface_normal.dot(out_normal) > 0 ? 1 : -1;
@@ -170,7 +233,7 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
     const int32_t r = region[tf.first];
     if (r == 0) continue;
     const auto& v = tets[tf.first];
-    m.boundary.push_back({v[size_t(kFace[tf.second][0])], v[size_t(kFace[tf.second][1])], v[size_t(kFace[tf.second][2])]});
+    m.boundary.push_back({v[size_t(kTetFace[tf.second][0])], v[size_t(kTetFace[tf.second][1])], v[size_t(kTetFace[tf.second][2])]});
     m.boundary_region.push_back(r);
   }
   return m;
@@ -182,7 +245,6 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
 // directions at three step lengths (a tenth, a fifth and two fifths of its shortest edge)
 // that most raises its star's smallest dihedral angle, keeping every tetrahedron of the
 // star positive; rounds until none moves. Returns the nodes moved.
-constexpr double kPerturbBelowDeg = 10;
 
 // The smallest dihedral angle of abcd (degrees), or -1 when its volume is not positive.
 double min_dihedral_if_positive(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
@@ -254,8 +316,19 @@ TetMesh one_pass(const TriangleMesh& surface, const TetOptions& opt, double size
   to_tetgen(surface, in);
   run_tetgen("pYq2.0Q", in, coarse);
   graded_sizes(coarse, surface, mean_edge_lengths(surface), opt, size);
-  run_tetgen(fmt::format("rYq{}/{}mO{}/7Q", opt.radius_edge, opt.min_dihedral, opt.optimize_level), coarse, out);
-  return to_mesh(out, surface, st);
+  const std::string refine =
+      fmt::format("rYq{}/{}mO{}/7o/{}Q", opt.radius_edge, opt.min_dihedral, opt.optimize_level, opt.max_dihedral);
+  run_tetgen(refine, coarse, out);
+  const std::vector<Eigen::Vector3d> under_folds = points_under_folds(out, surface);
+  if (under_folds.empty()) return to_mesh(out, surface, st);
+  st.fold_points = int64_t(under_folds.size());
+  tetgenio add, again;
+  add.numberofpoints = int(under_folds.size());
+  add.pointlist = new REAL[under_folds.size() * 3];
+  for (size_t i = 0; i < under_folds.size(); ++i)
+    for (int d = 0; d < 3; ++d) add.pointlist[3 * i + size_t(d)] = under_folds[i][d];
+  run_tetgen("i" + refine, coarse, again, &add);
+  return to_mesh(again, surface, st);
 }
 
 }  // namespace

@@ -3,22 +3,28 @@
 // tetrahedral mesh generator"; Debian's libtet1.5-dev) tetrahedralizes the surface as a
 // piecewise linear complex without splitting its triangles (-Y), refines the inside by
 // Delaunay refinement to a radius-edge ratio and a smallest dihedral angle (-q), with
-// the size each point asks for (-m), and improves the tetrahedra by flips and smoothing
-// (-O). The steps:
+// the size each point asks for (-m), and improves the tetrahedra by flips, smoothing and
+// point insertion (-O), aiming at no dihedral angle above max_dihedral (-o/). The steps:
 // 1. a coarse quality tetrahedralization of the surface (radius-edge ratio 2);
 // 2. the size at its nodes: the surface's own spacing at the boundary, growing by
 //    `grading` mm per mm of distance from it, up to `size`:
 //        s(x) = min(size, min_b (s_b + grading |x - b|)),
 //    s_b the mean length of the edges at the surface vertex b;
 // 3. that mesh refined (-r) to the quality and the sizes, interpolated between its nodes;
+//    where a tetrahedron with a dihedral angle under 10° has two or three faces on the
+//    surface (it lies flat under a fold, and no flip or inner node can mend it), a point
+//    beneath it, and the refinement done again from step 2's mesh with those points (-i);
 // 4. regions: the tetrahedra joined across faces that are not the surface's; a region
 //    whose surface triangles face into it lies in a cavity (the inside of a closed inner
 //    wall) and is removed;
 // 5. the inner nodes of slivers moved to raise their stars' smallest dihedral angle
 //    (perturb_slivers in tetrahedralize.cpp).
-// A tetrahedron whose four nodes all lie on the surface nearly in one plane (across a
-// plate thinner than the surface's spacing) cannot be mended so, and keeps its small
-// dihedral angle: only a point on the surface would mend it, and -Y forbids those.
+// What none of these mends is a dihedral angle the surface itself makes: two of its
+// triangles meeting at an edge at less than 10° inside (a knife-edge rim, a speck meshed
+// by four vertices) bound a tetrahedron with that angle, whatever the points inside; only
+// a point on the surface would mend it, and -Y forbids those. The pipeline removes the
+// flat vertices of three triangles and the specks before (mesh/mesh_optimize.h,
+// RunOptions::speck_voxels).
 #pragma once
 
 #include <cstdint>
@@ -36,6 +42,10 @@ struct TetOptions {
   double radius_edge = 1.3;  // TetGen -q: largest circumradius / shortest edge
   double min_dihedral = 15;  // TetGen -q: smallest dihedral angle it refines for (degrees)
   int optimize_level = 7;    // TetGen -O (0-9)
+  // TetGen -o/: the largest dihedral angle its optimisation accepts (degrees). A sliver has
+  // one near 180°; at TetGen's 165° the sample CT's default mesh kept 75 tetrahedra with
+  // an angle under 10°, at 140° it keeps 2 (each on the surface alone, step 5's note).
+  double max_dihedral = 140;
 };
 
 struct TetStats {
@@ -43,6 +53,7 @@ struct TetStats {
   int64_t boundary_points = 0;     // points TetGen added on the surface (0: -Y)
   int64_t interior_points = 0;     // nodes inside
   int64_t cavities_removed = 0;    // regions inside closed inner walls
+  int64_t fold_points = 0;         // points put beneath flat tetrahedra under folds of the surface (step 3)
   int64_t perturbed = 0;           // inner nodes moved off slivers (step 5)
   double size = 0;                 // the size used (mm)
   double surface_volume = 0;       // enclosed by the input surface (mm³)

@@ -272,10 +272,18 @@ TEST(Cli, RunOnTheSampleCt) {
   EXPECT_EQ(j["particles"]["requested_particles"].get<int64_t>(), 20000);
   ASSERT_EQ(j["notes"].size(), 1u) << j.dump();
   EXPECT_NE(j["notes"][0].get<std::string>().find("--particles 30000"), std::string::npos) << j["notes"][0];
+  // From a volume, the specks enclosing less than a tenth of a voxel are dropped.
+  const auto& specks = j["components_filter"];
+  EXPECT_NEAR(specks["min_volume_mm3"].get<double>(), 0.1 * 0.9570312 * 0.9570312 * 1.5, 1e-6);
+  int64_t speck_vertices = 0;
+  for (const auto& d : specks["dropped"]) {
+    EXPECT_LT(d["volume_mm3"].get<double>(), specks["min_volume_mm3"].get<double>());
+    speck_vertices += d["vertices"].get<int64_t>();
+  }
   const auto& tr = j["triangulation"];
   EXPECT_EQ(j["particles"]["particles"].get<int64_t>() + tr["repair_points"].get<int64_t>() -
                 tr["unused_particles"].get<int64_t>() - tr["edge_collapses"].get<int64_t>() -
-                j["optimization"]["collapses"].get<int64_t>(),
+                j["optimization"]["collapses"].get<int64_t>() - speck_vertices,
             j["vertices"].get<int64_t>());
   // On the bone: distances to the marching-cubes surface of the same threshold. (Before the
   // triangulation ignored f beyond the points' bounding box, a sheet there put the 99th

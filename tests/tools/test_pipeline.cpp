@@ -58,8 +58,8 @@ TEST(Pipeline, RunsItsStagesInOrderAndOpensTheBackendOnce) {
   EXPECT_EQ(opened, 1);
   EXPECT_EQ(rec.open, 0);
   EXPECT_EQ(rec.stages, (std::vector<std::string>{"read volume", "segment", "points", "marching cubes (report)", "fit",
-                                                  "particles", "triangulate", "optimize", "curvature", "quality",
-                                                  "original MPU (report)"}));
+                                                  "particles", "triangulate", "keep components", "optimize",
+                                                  "curvature", "quality", "original MPU (report)"}));
   ASSERT_EQ(r.baselines.size(), 2u);
   EXPECT_EQ(r.baselines[0].first, "marching cubes");
   EXPECT_EQ(r.baselines[1].first, "original MPU");
