@@ -116,12 +116,14 @@ double ray_hit(const TriangleMesh& m, const Eigen::Vector3d& o, const Eigen::Vec
   return nearest;
 }
 
-// Step 3's second part: a tetrahedron with a dihedral angle under kPerturbBelowDeg and two
-// or three of its faces on the surface lies flat under a fold of it, and no flip or move
-// of inner nodes mends it; a point beneath it (from its centroid along the inward normal
-// of its surface faces, half its mean edge deep, or half way to the surface's other side
-// where that is nearer: a plate) lets TetGen's refinement replace it. Returns those points.
-std::vector<Eigen::Vector3d> points_under_folds(const tetgenio& mesh, const TriangleMesh& surface) {
+// Step 3's second part: a tetrahedron with a dihedral angle under kPerturbBelowDeg and its
+// four nodes on the surface is one no flip or move of inner nodes mends. With two or three
+// faces on the surface it lies flat under a fold: a point beneath it (from its centroid
+// along the inward normal of those faces, half its mean edge deep, or half way to the
+// surface's other side where that is nearer: a plate); with fewer, it spans a plate from
+// one side to the other: a point at its centroid, inside the plate. Those points let
+// TetGen's refinement replace it. Returns them.
+std::vector<Eigen::Vector3d> points_for_flat_tets(const tetgenio& mesh, const TriangleMesh& surface) {
   std::unordered_map<uint64_t, const std::array<uint32_t, 3>*> faces;
   faces.reserve(surface.triangles.size() * 2);
   for (const auto& t : surface.triangles) faces.emplace(face_key(t[0], t[1], t[2]), &t);
@@ -145,11 +147,16 @@ std::vector<Eigen::Vector3d> points_under_folds(const tetgenio& mesh, const Tria
       normal += (surface.vertices[s[1]] - surface.vertices[s[0]]).cross(surface.vertices[s[2]] - surface.vertices[s[0]]).normalized();
       ++on_surface;
     }
-    if (on_surface < 2 || !(normal.norm() > 0)) continue;
+    const Eigen::Vector3d centroid = (p[0] + p[1] + p[2] + p[3]) / 4;
+    if (on_surface < 2) {  // across a plate, its nodes on both sides: a point in the plate
+      out.push_back(centroid);
+      continue;
+    }
+    if (!(normal.norm() > 0)) continue;
     double edges = 0;
     for (int i = 0; i < 4; ++i)
       for (int j = i + 1; j < 4; ++j) edges += (p[size_t(i)] - p[size_t(j)]).norm() / 6;
-    const Eigen::Vector3d centroid = (p[0] + p[1] + p[2] + p[3]) / 4, inward = -normal.normalized();
+    const Eigen::Vector3d inward = -normal.normalized();
     out.push_back(centroid + 0.5 * std::min(edges, ray_hit(surface, centroid, inward)) * inward);
   }
   return out;
@@ -319,14 +326,14 @@ TetMesh one_pass(const TriangleMesh& surface, const TetOptions& opt, double size
   const std::string refine =
       fmt::format("rYq{}/{}mO{}/7o/{}Q", opt.radius_edge, opt.min_dihedral, opt.optimize_level, opt.max_dihedral);
   run_tetgen(refine, coarse, out);
-  const std::vector<Eigen::Vector3d> under_folds = points_under_folds(out, surface);
-  if (under_folds.empty()) return to_mesh(out, surface, st);
-  st.fold_points = int64_t(under_folds.size());
+  const std::vector<Eigen::Vector3d> for_flat = points_for_flat_tets(out, surface);
+  if (for_flat.empty()) return to_mesh(out, surface, st);
+  st.flat_tet_points = int64_t(for_flat.size());
   tetgenio add, again;
-  add.numberofpoints = int(under_folds.size());
-  add.pointlist = new REAL[under_folds.size() * 3];
-  for (size_t i = 0; i < under_folds.size(); ++i)
-    for (int d = 0; d < 3; ++d) add.pointlist[3 * i + size_t(d)] = under_folds[i][d];
+  add.numberofpoints = int(for_flat.size());
+  add.pointlist = new REAL[for_flat.size() * 3];
+  for (size_t i = 0; i < for_flat.size(); ++i)
+    for (int d = 0; d < 3; ++d) add.pointlist[3 * i + size_t(d)] = for_flat[i][d];
   run_tetgen("i" + refine, coarse, again, &add);
   return to_mesh(again, surface, st);
 }

@@ -11,9 +11,10 @@
 //        s(x) = min(size, min_b (s_b + grading |x - b|)),
 //    s_b the mean length of the edges at the surface vertex b;
 // 3. that mesh refined (-r) to the quality and the sizes, interpolated between its nodes;
-//    where a tetrahedron with a dihedral angle under 10° has two or three faces on the
-//    surface (it lies flat under a fold, and no flip or inner node can mend it), a point
-//    beneath it, and the refinement done again from step 2's mesh with those points (-i);
+//    where a tetrahedron with a dihedral angle under 10° has its four nodes on the surface
+//    (flat under a fold of it, or across a plate; no flip or inner node mends it), a point
+//    beneath it or inside the plate, and the refinement done again from step 2's mesh
+//    with those points (-i);
 // 4. regions: the tetrahedra joined across faces that are not the surface's; a region
 //    whose surface triangles face into it lies in a cavity (the inside of a closed inner
 //    wall) and is removed;
@@ -53,7 +54,7 @@ struct TetStats {
   int64_t boundary_points = 0;     // points TetGen added on the surface (0: -Y)
   int64_t interior_points = 0;     // nodes inside
   int64_t cavities_removed = 0;    // regions inside closed inner walls
-  int64_t fold_points = 0;         // points put beneath flat tetrahedra under folds of the surface (step 3)
+  int64_t flat_tet_points = 0;     // points put inside to replace flat tetrahedra of surface nodes (step 3)
   int64_t perturbed = 0;           // inner nodes moved off slivers (step 5)
   double size = 0;                 // the size used (mm)
   double surface_volume = 0;       // enclosed by the input surface (mm³)

@@ -69,6 +69,26 @@ TEST(Tetrahedralize, FillsASphereWithTheSurfaceAsItsBoundary) {
   EXPECT_GT(longest, 2.0);
 }
 
+TEST(Tetrahedralize, MendsFlatTetrahedraAcrossAThinPlate) {
+  // A shell 0.4 mm thick under 1.2 mm triangles, its inner wall turned against the outer so
+  // that their vertices do not face each other: tetrahedra of four surface nodes span the
+  // plate flat, and a point inside each lets the refinement replace them.
+  TriangleMesh inner = turned_inside_out(test::icosphere(9.6, 4));
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (auto& v : inner.vertices) v = turn * v;
+  const TriangleMesh plate = joined(test::icosphere(10, 4), inner, Eigen::Vector3d::Zero());
+  TetStats st;
+  const TetMesh m = tetrahedralize(plate, {}, &st);
+  std::printf("%lld tetrahedra, %lld points for flat ones; dihedral %.2f-%.2f deg, %.3f%% under 15, radius ratio %.3f\n",
+              (long long)st.quality.tets, (long long)st.flat_tet_points, st.quality.min_dihedral_deg,
+              st.quality.max_dihedral_deg, st.quality.pct_min_dihedral_below_15, st.quality.radius_ratio_mean);
+  EXPECT_GT(st.flat_tet_points, 0);
+  EXPECT_GE(st.quality.min_dihedral_deg, 10);
+  EXPECT_EQ(st.boundary_points, 0);
+  EXPECT_EQ(sorted_triangles(m.boundary), sorted_triangles(plate.triangles));
+  EXPECT_NEAR(st.quality.volume_mm3, enclosed(plate), 1e-9 * enclosed(plate));
+}
+
 TEST(Tetrahedralize, KeepsCavitiesEmptyAndNumbersEachBody) {
   // A shell (outer radius 10, a cavity of radius 5 inside, its wall facing in) and a ball
   // of radius 4 beside it.

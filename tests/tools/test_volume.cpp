@@ -199,11 +199,11 @@ TEST(FiniteElements, CalculixTakesTheSampleCtsSkull) {
   EXPECT_NE(log.find("Job finished"), std::string::npos) << log;
   EXPECT_TRUE(std::filesystem::exists(dir + "/deck.frd"));
   const auto j = nlohmann::json::parse(read_file(dir + "/r.json"));
-  std::printf("skull: %lld tetrahedra in %d regions, smallest dihedral %.2f deg (%lld points under folds), "
+  std::printf("skull: %lld tetrahedra in %d regions, smallest dihedral %.2f deg (%lld points for flat tetrahedra), "
               "CalculiX finished\n",
               (long long)j["volume_mesh"]["tetrahedra"].get<int64_t>(), j["volume_mesh"]["regions"].get<int>(),
-              j["volume_mesh"]["min_dihedral_deg"].get<double>(), (long long)j["volume_mesh"]["points_under_folds"].get<int64_t>());
-  // Without the points under folds, one tetrahedron flat under a fold of the skull kept 8.58°.
+              j["volume_mesh"]["min_dihedral_deg"].get<double>(), (long long)j["volume_mesh"]["points_for_flat_tetrahedra"].get<int64_t>());
+  // Without the points for flat tetrahedra, one flat under a fold of the skull kept 8.58°.
   EXPECT_GE(j["volume_mesh"]["min_dihedral_deg"].get<double>(), 10.0);
 }
 
