@@ -6,6 +6,7 @@
 #include <numeric>
 
 #include "common/error.h"
+#include "geometry/ray_triangle.h"
 #include "mesh/topology.h"
 
 namespace mpumesh {
@@ -25,17 +26,8 @@ bool inside(const TriangleMesh& m, const Component& c, const Eigen::Vector3d& p)
   int crossings = 0;
   for (uint32_t f : c.triangles) {
     const auto& t = m.triangles[f];
-    const Eigen::Vector3d a = m.vertices[t[0]], e1 = m.vertices[t[1]] - a, e2 = m.vertices[t[2]] - a;
-    const Eigen::Vector3d h = dir.cross(e2);
-    const double det = e1.dot(h);
-    if (std::abs(det) < 1e-14) continue;
-    const Eigen::Vector3d s = p - a;
-    const double u = s.dot(h) / det;
-    if (u < 0 || u > 1) continue;
-    const Eigen::Vector3d q = s.cross(e1);
-    const double v = dir.dot(q) / det;
-    if (v < 0 || u + v > 1) continue;
-    if (e2.dot(q) / det > 0) ++crossings;
+    const auto along = ray_triangle(p, dir, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    crossings += along && *along > 0;
   }
   return crossings % 2 == 1;
 }

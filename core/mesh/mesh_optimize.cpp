@@ -117,6 +117,14 @@ std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   return done;
 }
 
+// The triangles not marked `gone`, in their order.
+void drop_marked(std::vector<Tri>& T, const std::vector<char>& gone) {
+  size_t n = 0;
+  for (size_t f = 0; f < T.size(); ++f)
+    if (!gone[f]) T[n++] = T[f];
+  T.resize(n);
+}
+
 // The smallest angle (degrees) of the triangles `faces` with the vertices at x.
 double smallest_angle(const std::vector<Eigen::Vector3d>& x, const std::vector<Tri>& T,
                       const std::vector<uint32_t>& faces) {
@@ -323,10 +331,7 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
     for (uint32_t v : ring) locked[v] = 1;
     ++done;
   }
-  size_t n = 0;
-  for (size_t f = 0; f < T.size(); ++f)
-    if (!gone[f]) T[n++] = T[f];
-  T.resize(n);
+  drop_marked(T, gone);
   return done;
 }
 
@@ -371,34 +376,21 @@ int64_t remove_flat_caps(TriangleMesh& m, const OptimizeOptions& opt, const std:
     locked[v] = locked[a] = locked[b] = locked[c] = 1;
     ++done;
   }
-  size_t k = 0;
-  for (size_t f = 0; f < T.size(); ++f)
-    if (!gone[f]) T[k++] = T[f];
-  T.resize(k);
+  drop_marked(T, gone);
   return done;
 }
 
-// Step 4 (see the header): each vertex of a triangle still under polish_below_deg tries
-// places around it in its tangent plane (12 directions at 5, 15 and 30% of its shortest
-// edge, and its neighbours' mean), all put on f = 0 at once on the backend, and takes the
-// one that most raises the smallest angle around it, turning no triangle by more than
-// max_turn_deg. Returns the moves made.
-int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                    const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+// Step 4's places for each vertex of `verts` (kPlaces each, in order): its neighbours'
+// mean, then 12 directions at 5, 15 and 30% of its shortest edge, all in its tangent plane
+// (the mean of its triangles' normals), then put on f = 0 on the backend.
+constexpr int kDirections = 12;
+constexpr double kSteps[] = {0.05, 0.15, 0.3};
+constexpr size_t kPlaces = 1 + kDirections * std::size(kSteps);
+particles::ParticleState polish_places(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                                       const std::vector<double>& spacing, const OptimizeOptions& opt,
+                                       const std::vector<std::vector<uint32_t>>& vf, const std::vector<uint32_t>& verts) {
   const auto& T = m.triangles;
-  auto& x = m.vertices;
-  std::vector<uint32_t> verts;
-  for (const Tri& t : T)
-    if (triangle_min_angle_deg(x[t[0]], x[t[1]], x[t[2]]) < opt.polish_below_deg)
-      for (uint32_t v : t)
-        if (!frozen[v]) verts.push_back(v);
-  std::sort(verts.begin(), verts.end());
-  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-  if (verts.empty()) return 0;
-  const auto vf = vertex_faces(m);
-  constexpr int kDirections = 12;
-  constexpr double kSteps[] = {0.05, 0.15, 0.3};
-  constexpr size_t kPlaces = 1 + kDirections * std::size(kSteps);
+  const auto& x = m.vertices;
   particles::ParticleState st;
   st.resize(verts.size() * kPlaces);
   for (size_t i = 0; i < verts.size(); ++i) {
@@ -426,6 +418,27 @@ int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& b
   particles::StepParams p;
   p.newton_steps = opt.newton_steps;
   backend.particle_project(s, st, p, false);
+  return st;
+}
+
+// Step 4 (see the header): each vertex of a triangle still under polish_below_deg takes,
+// of its places (polish_places), the one that most raises the smallest angle around it,
+// turning no triangle by more than max_turn_deg; one vertex after another. Returns the
+// moves made.
+int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                    const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  const auto& T = m.triangles;
+  auto& x = m.vertices;
+  std::vector<uint32_t> verts;
+  for (const Tri& t : T)
+    if (triangle_min_angle_deg(x[t[0]], x[t[1]], x[t[2]]) < opt.polish_below_deg)
+      for (uint32_t v : t)
+        if (!frozen[v]) verts.push_back(v);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  if (verts.empty()) return 0;
+  const auto vf = vertex_faces(m);
+  const particles::ParticleState st = polish_places(m, s, backend, spacing, opt, vf, verts);
   const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
   int64_t moved = 0;
   for (size_t i = 0; i < verts.size(); ++i) {

@@ -16,6 +16,7 @@
 #include "common/error.h"
 #include "common/kd_tree.h"
 #include "geometry/drop_unused.h"
+#include "geometry/ray_triangle.h"
 #include "mesh/topology.h"
 
 namespace mpumesh {
@@ -95,25 +96,24 @@ uint64_t face_key(uint32_t a, uint32_t b, uint32_t c) {
 constexpr double kPerturbBelowDeg = 10;
 
 // How far the ray from o along the unit d goes before it meets a triangle of m (INFINITY
-// when none): Möller and Trumbore's test against each.
+// when none).
 double ray_hit(const TriangleMesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
   double nearest = INFINITY;
   for (const auto& t : m.triangles) {
-    const Eigen::Vector3d& a = m.vertices[t[0]];
-    const Eigen::Vector3d e1 = m.vertices[t[1]] - a, e2 = m.vertices[t[2]] - a;
-    const Eigen::Vector3d p = d.cross(e2);
-    const double det = e1.dot(p);
-    if (std::abs(det) < 1e-300) continue;
-    const Eigen::Vector3d s = o - a;
-    const double u = s.dot(p) / det;
-    if (u < 0 || u > 1) continue;
-    const Eigen::Vector3d q = s.cross(e1);
-    const double v = d.dot(q) / det;
-    if (v < 0 || u + v > 1) continue;
-    const double along = e2.dot(q) / det;
-    if (along > 1e-9) nearest = std::min(nearest, along);
+    const auto along = ray_triangle(o, d, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
+    if (along && *along > 1e-9) nearest = std::min(nearest, *along);
   }
   return nearest;
+}
+
+// Beneath the tetrahedron p flat under a fold: from its centroid along `inward`, half its
+// mean edge deep, or half way to the surface's other side where that is nearer.
+Eigen::Vector3d point_under_fold(const TriangleMesh& surface, const std::array<Eigen::Vector3d, 4>& p,
+                                 const Eigen::Vector3d& centroid, const Eigen::Vector3d& inward) {
+  double edges = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) edges += (p[size_t(i)] - p[size_t(j)]).norm() / 6;
+  return centroid + 0.5 * std::min(edges, ray_hit(surface, centroid, inward)) * inward;
 }
 
 // Step 3's second part: a tetrahedron with a dihedral angle under kPerturbBelowDeg and its
@@ -135,7 +135,7 @@ std::vector<Eigen::Vector3d> points_for_flat_tets(const tetgenio& mesh, const Tr
       v[size_t(k)] = mesh.tetrahedronlist[4 * t + k];
       p[size_t(k)] = Eigen::Vector3d(mesh.pointlist + 3 * v[size_t(k)]);
     }
-    if (*std::ranges::max_element(v) >= int(surface.vertices.size())) continue;  // an inner node: not flat under a fold
+    if (*std::ranges::max_element(v) >= int(surface.vertices.size())) continue;  // an inner node: step 5's
     const std::array<double, 6> angle = dihedral_angles(p[0], p[1], p[2], p[3]);
     if (!(*std::ranges::min_element(angle) < kPerturbBelowDeg)) continue;
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
@@ -148,16 +148,10 @@ std::vector<Eigen::Vector3d> points_for_flat_tets(const tetgenio& mesh, const Tr
       ++on_surface;
     }
     const Eigen::Vector3d centroid = (p[0] + p[1] + p[2] + p[3]) / 4;
-    if (on_surface < 2) {  // across a plate, its nodes on both sides: a point in the plate
-      out.push_back(centroid);
-      continue;
-    }
-    if (!(normal.norm() > 0)) continue;
-    double edges = 0;
-    for (int i = 0; i < 4; ++i)
-      for (int j = i + 1; j < 4; ++j) edges += (p[size_t(i)] - p[size_t(j)]).norm() / 6;
-    const Eigen::Vector3d inward = -normal.normalized();
-    out.push_back(centroid + 0.5 * std::min(edges, ray_hit(surface, centroid, inward)) * inward);
+    if (on_surface < 2)
+      out.push_back(centroid);  // across a plate, its nodes on both sides: a point in the plate
+    else if (normal.norm() > 0)
+      out.push_back(point_under_fold(surface, p, centroid, -normal.normalized()));
   }
   return out;
 }
