@@ -15,6 +15,7 @@
 #include "io/read_file.h"
 #include "io/tet_io.h"
 #include "io/volume_io.h"
+#include "tet/tet_quality.h"
 
 namespace mpumesh {
 namespace {
@@ -74,6 +75,10 @@ TEST(Volume, RunWritesTheVolumeMeshAndReportsIt) {
   EXPECT_NEAR(v["volume_mm3"].get<double>(), j["quality"]["volume_mm3"].get<double>(),
               1e-6 * j["quality"]["volume_mm3"].get<double>());
   EXPECT_EQ(v["dihedral_histogram_5deg"].size(), 36u);
+  EXPECT_GE(v["min_dihedral_deg"].get<double>(), 10);
+  EXPECT_LE(v["pct_min_dihedral_below_15"].get<double>(), 1.0);
+  EXPECT_GE(v["radius_ratio_mean"].get<double>(), 0.7);
+  EXPECT_EQ(v["inverted"].get<int64_t>(), 0);
   EXPECT_GT(j["stage_seconds"]["volume mesh"].get<double>(), 0);
   const std::string html = read_file(dir + "/r.html");
   EXPECT_NE(html.find("Volume mesh"), std::string::npos);
@@ -138,6 +143,14 @@ TEST(FiniteElements, ACutCylinderCompressedBetweenItsEndsGivesEADeltaOverL) {
                        "/cyl.inp --backend cpu --quiet");
   ASSERT_EQ(r.code, 0) << r.out;
   const TetMesh m = read_tet_mesh(dir + "/cyl.inp");
+  // The quality asked of a volume mesh, on this CT-like phantom as read back.
+  const TetQuality q = measure_tet_quality(m);
+  std::printf("cylinder: %lld tetrahedra, smallest dihedral %.2f deg, %.3f%% under 15, radius ratio %.3f\n",
+              (long long)q.tets, q.min_dihedral_deg, q.pct_min_dihedral_below_15, q.radius_ratio_mean);
+  EXPECT_GE(q.min_dihedral_deg, 10);
+  EXPECT_LE(q.pct_min_dihedral_below_15, 1.0);
+  EXPECT_GE(q.radius_ratio_mean, 0.7);
+  EXPECT_EQ(q.inverted, 0);
   // The ends: the nodes within half a slice (0.5 mm) of the lowest and the highest; their
   // mean heights set the length. The cross-section: from the surface's radius halfway up.
   double zmin = INFINITY, zmax = -INFINITY;
