@@ -227,6 +227,10 @@ void attach_and_check(Run& run) {
 void keep_components(Run& run) {
   RunResult& r = run.r;
   FilteredMesh f = stage(run.obs, "keep components", [&] { return filter_components(r.mesh, r.components); });
+  if (f.mesh.triangles.empty() && r.components.min_volume_mm3 > run.opt.components.min_volume_mm3)
+    throw InputError(fmt::format("{}: every structure is a speck, enclosing less than {:.3g} mm3 ({:g} voxels), below "
+                                 "what the scan resolves (--keep-specks keeps them); nothing written",
+                                 run.input, r.components.min_volume_mm3, run.opt.speck_voxels));
   require_kept(f, r.components, run.input);
   r.mesh = std::move(f.mesh);
   r.components_kept = f.kept;

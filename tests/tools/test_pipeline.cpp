@@ -121,5 +121,25 @@ TEST(Pipeline, NamesTheVolumeWhenItHoldsNoSurface) {
       InputError);
 }
 
+TEST(Pipeline, SaysSoWhenOnlySpecksAreFound) {
+  // The ball counted as a speck (a bound of a million voxels): dropped with the rest, and the
+  // run says why, not that --min-volume (not given) dropped it.
+  const std::string dir = test::temp_dir("pipeline_specks");
+  const std::string ball = ball_phantom(dir);
+  CpuBackend cpu;
+  pipeline::RunOptions o = ball_options();
+  o.speck_voxels = 1e6;
+  try {
+    pipeline::run_pipeline(ball, o, [&]() -> ComputeBackend& { return cpu; });
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(ball + ": every structure is a speck"), std::string::npos) << what;
+    EXPECT_NE(what.find("--keep-specks"), std::string::npos) << what;
+  }
+  o.speck_voxels = 0;  // kept
+  EXPECT_GT(pipeline::run_pipeline(ball, o, [&]() -> ComputeBackend& { return cpu; }).mesh.triangles.size(), 1000u);
+}
+
 }  // namespace
 }  // namespace mpumesh
