@@ -27,11 +27,11 @@
 //    neighbours takes its three, where its smallest angle is no worse): such a vertex sits
 //    within a fraction of an edge of that triangle, on a flat patch or at the tip of a
 //    knife-edge rim, and that tetrahedron is the one a volume mesh must have there. Then
-//    the vertices of triangles still under polish_below_deg move, one by
-//    one, to the place near them on f = 0 that most raises the smallest angle around them
-//    (a search in the tangent plane, a few passes), turning no triangle by more than
-//    max_turn_deg: the rounds' centroids even the shapes on the whole but leave a few
-//    triangles near 20° where the surface folds sharply (the rim of a thin plate).
+//    the vertices of triangles still under polish_below_deg move, one by one, to the
+//    place near them on f = 0 that most raises the smallest angle around them (a search
+//    in the tangent plane, a few passes), turning no triangle by more than max_turn_deg:
+//    the rounds' centroids even the shapes on the whole but leave a few triangles near
+//    20° where the surface folds sharply (the rim of a thin plate).
 // Triangles that then cross others (exact predicates, mesh/cgal_geometry.h) have their
 // vertices frozen and the rounds are done again; after three tries, the mesh is kept as
 // it was.
@@ -71,7 +71,7 @@ ShapeFigures shape_figures(const TriangleMesh& m);
 struct OptimizeStats {
   int rounds = 0;
   int64_t flips = 0, moves = 0;   // over all rounds (a vertex moved in two rounds counts twice)
-  int64_t collapses = 0;          // edges collapsed, each removing a vertex and two triangles
+  int64_t collapses = 0;          // edges collapsed and flat vertices removed, each a vertex and two triangles fewer
   int64_t polish_moves = 0;       // step 4's
   int retries = 0;                // rounds done again with frozen vertices (three: none kept)
   int64_t frozen = 0;             // vertices frozen for that
