@@ -125,6 +125,26 @@ void drop_marked(std::vector<Tri>& T, const std::vector<char>& gone) {
   T.resize(n);
 }
 
+// Whether a triangle whose normal was old_n (of any length) and is new_n after a change is
+// still a triangle, turned by no more than acos(cos_turn).
+bool turned_within(const Eigen::Vector3d& old_n, const Eigen::Vector3d& new_n, double cos_turn) {
+  return new_n.norm() > 0 && old_n.normalized().dot(new_n.normalized()) >= cos_turn;
+}
+
+// The points of `st` onto f = 0 on the backend: opt.newton_steps Newton steps, each
+// moving a point at most its sigma.
+void project_onto_surface(const mpu::MpuSurface& s, ComputeBackend& backend, particles::ParticleState& st,
+                          const OptimizeOptions& opt) {
+  particles::StepParams p;
+  p.newton_steps = opt.newton_steps;
+  backend.particle_project(s, st, p, false);
+}
+
+// Whether point i of a projection reached f = 0 (within a thousandth of its sigma).
+bool landed(const particles::ParticleState& st, size_t i) {
+  return std::isfinite(st.distance[i]) && std::abs(st.distance[i]) < 1e-3 * st.sigma[i];
+}
+
 // The smallest angle (degrees) of the triangles `faces` with the vertices at x.
 double smallest_angle(const std::vector<Eigen::Vector3d>& x, const std::vector<Tri>& T,
                       const std::vector<uint32_t>& faces) {
@@ -139,10 +159,8 @@ double smallest_angle(const std::vector<Eigen::Vector3d>& x, const std::vector<T
 bool move_keeps(const std::vector<Eigen::Vector3d>& was, const std::vector<Eigen::Vector3d>& now,
                 const std::vector<Tri>& T, const std::vector<uint32_t>& faces, const OptimizeOptions& opt) {
   const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
-  for (uint32_t f : faces) {
-    const Eigen::Vector3d a = area_normal(was, T[f]), b = area_normal(now, T[f]);
-    if (!(b.norm() > 0) || !(a.normalized().dot(b.normalized()) >= cos_turn)) return false;
-  }
+  for (uint32_t f : faces)
+    if (!turned_within(area_normal(was, T[f]), area_normal(now, T[f]), cos_turn)) return false;
   const double after = smallest_angle(now, T, faces);
   return after >= opt.min_keep_deg || after >= smallest_angle(was, T, faces);
 }
@@ -176,14 +194,11 @@ std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, Comp
     st.x[v] = was[v] + step;
     st.sigma[v] = spacing[v];  // each Newton step moves at most this far
   });
-  particles::StepParams p;
-  p.newton_steps = opt.newton_steps;
-  backend.particle_project(s, st, p, false);
+  project_onto_surface(s, backend, st, opt);
   std::vector<Eigen::Vector3d> now = was;
   std::vector<char> moving(n, 0);
   for (size_t v = 0; v < n; ++v)
-    if (!frozen[v] && !vf[v].empty() && std::isfinite(st.distance[v]) && st.x[v].allFinite() && std::abs(st.distance[v]) < 1e-3 * spacing[v])
-      now[v] = st.x[v], moving[v] = 1;
+    if (!frozen[v] && !vf[v].empty() && landed(st, v) && st.x[v].allFinite()) now[v] = st.x[v], moving[v] = 1;
   // Keep the moves that keep their triangles, against the others' new places; a move
   // given up is tested against again by its neighbours, until none changes.
   std::vector<uint32_t> retest;
@@ -253,8 +268,7 @@ std::optional<Eigen::Vector3d> best_merge_place(const std::vector<Eigen::Vector3
     for (uint32_t f : keep) {
       Eigen::Vector3d p[3];
       for (int k = 0; k < 3; ++k) p[k] = T[f][size_t(k)] == a || T[f][size_t(k)] == b ? at : x[T[f][size_t(k)]];
-      const Eigen::Vector3d old_n = area_normal(x, T[f]), new_n = (p[1] - p[0]).cross(p[2] - p[0]);
-      if (!(new_n.norm() > 0) || !(old_n.normalized().dot(new_n.normalized()) >= cos_turn)) {
+      if (!turned_within(area_normal(x, T[f]), (p[1] - p[0]).cross(p[2] - p[0]), cos_turn)) {
         worst = -1;
         break;
       }
@@ -282,9 +296,7 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
     mid.x[i] = 0.5 * (x[a] + x[b]);
     mid.sigma[i] = 0.5 * (spacing[a] + spacing[b]);
   }
-  particles::StepParams p;
-  p.newton_steps = opt.newton_steps;
-  backend.particle_project(s, mid, p, false);
+  project_onto_surface(s, backend, mid, opt);
   const auto vf = vertex_faces(m);
   auto neighbours = [&](uint32_t v) {
     std::vector<uint32_t> n;
@@ -317,7 +329,7 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
     for (uint32_t f : faces)
       if (std::count(T[f].begin(), T[f].end(), a) + std::count(T[f].begin(), T[f].end(), b) < 2) keep.push_back(f);
     std::vector<Eigen::Vector3d> places;  // the midpoint on f = 0 first, then the ends
-    if (std::isfinite(mid.distance[i]) && std::abs(mid.distance[i]) < 1e-3 * mid.sigma[i]) places.push_back(mid.x[i]);
+    if (landed(mid, i)) places.push_back(mid.x[i]);
     places.push_back(x[a]);
     places.push_back(x[b]);
     const auto at = best_merge_place(x, T, keep, a, b, places, smallest_angle(x, T, faces), opt);
@@ -415,9 +427,7 @@ particles::ParticleState polish_places(const TriangleMesh& m, const mpu::MpuSurf
       }
     for (size_t j = i * kPlaces; j < k; ++j) st.sigma[j] = spacing[v];
   }
-  particles::StepParams p;
-  p.newton_steps = opt.newton_steps;
-  backend.particle_project(s, st, p, false);
+  project_onto_surface(s, backend, st, opt);
   return st;
 }
 
@@ -445,17 +455,14 @@ int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& b
     const uint32_t v = verts[i];
     const Eigen::Vector3d home = x[v];
     std::vector<Eigen::Vector3d> normals;
-    for (uint32_t f : vf[v]) normals.push_back(area_normal(x, T[f]).normalized());
+    for (uint32_t f : vf[v]) normals.push_back(area_normal(x, T[f]));
     double best = smallest_angle(x, T, vf[v]);
     Eigen::Vector3d best_at = home;
     for (size_t j = i * kPlaces; j < (i + 1) * kPlaces; ++j) {
-      if (!std::isfinite(st.distance[j]) || !(std::abs(st.distance[j]) < 1e-3 * spacing[v])) continue;
+      if (!landed(st, j)) continue;
       x[v] = st.x[j];
       bool ok = true;
-      for (size_t q = 0; q < vf[v].size() && ok; ++q) {
-        const Eigen::Vector3d n = area_normal(x, T[vf[v][q]]);
-        ok = n.norm() > 0 && n.normalized().dot(normals[q]) >= cos_turn;
-      }
+      for (size_t q = 0; q < vf[v].size() && ok; ++q) ok = turned_within(normals[q], area_normal(x, T[vf[v][q]]), cos_turn);
       const double angle = ok ? smallest_angle(x, T, vf[v]) : -1;
       if (angle > best + 1e-9) best = angle, best_at = x[v];
     }

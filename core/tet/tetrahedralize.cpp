@@ -92,6 +92,15 @@ uint64_t face_key(uint32_t a, uint32_t b, uint32_t c) {
   return (uint64_t(v[0]) << 42) ^ (uint64_t(v[1]) << 21) ^ uint64_t(v[2]);
 }
 
+// The surface's triangles by their nodes (face_key).
+using SurfaceFaces = std::unordered_map<uint64_t, const std::array<uint32_t, 3>*>;
+SurfaceFaces surface_faces(const TriangleMesh& surface) {
+  SurfaceFaces faces;
+  faces.reserve(surface.triangles.size() * 2);
+  for (const auto& t : surface.triangles) faces.emplace(face_key(t[0], t[1], t[2]), &t);
+  return faces;
+}
+
 // The dihedral angle (degrees) under which a tetrahedron is mended (steps 3 and 5).
 constexpr double kPerturbBelowDeg = 10;
 
@@ -123,10 +132,8 @@ Eigen::Vector3d point_under_fold(const TriangleMesh& surface, const std::array<E
 // surface's other side where that is nearer: a plate); with fewer, it spans a plate from
 // one side to the other: a point at its centroid, inside the plate. Those points let
 // TetGen's refinement replace it. Returns them.
-std::vector<Eigen::Vector3d> points_for_flat_tets(const tetgenio& mesh, const TriangleMesh& surface) {
-  std::unordered_map<uint64_t, const std::array<uint32_t, 3>*> faces;
-  faces.reserve(surface.triangles.size() * 2);
-  for (const auto& t : surface.triangles) faces.emplace(face_key(t[0], t[1], t[2]), &t);
+std::vector<Eigen::Vector3d> points_for_flat_tets(const tetgenio& mesh, const TriangleMesh& surface,
+                                                  const SurfaceFaces& faces) {
   std::vector<Eigen::Vector3d> out;
   for (int t = 0; t < mesh.numberoftetrahedra; ++t) {
     std::array<int, 4> v;
@@ -157,7 +164,7 @@ std::vector<Eigen::Vector3d> points_for_flat_tets(const tetgenio& mesh, const Tr
 }
 
 // Step 4: the regions, without the cavities; the boundary triangles, outward.
-TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) {
+TetMesh to_mesh(const tetgenio& out, const SurfaceFaces& input, TetStats& st) {
   TetMesh m;
   m.nodes.resize(size_t(out.numberofpoints));
   for (size_t i = 0; i < m.nodes.size(); ++i)
@@ -172,9 +179,6 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
   }
   // Faces: the surface's faces bound the regions (a cavity's wall has a tetrahedron on
   // either side); any other face joins the two tetrahedra that share it.
-  std::unordered_map<uint64_t, const std::array<uint32_t, 3>*> input;
-  input.reserve(surface.triangles.size() * 2);
-  for (const auto& t : surface.triangles) input.emplace(face_key(t[0], t[1], t[2]), &t);
   std::unordered_map<uint64_t, uint32_t> open;  // an inner face seen once -> its tetrahedron
   open.reserve(nt * 2);
   std::vector<std::pair<uint64_t, std::pair<uint32_t, int>>> faces;  // the surface's, with their tetrahedra
@@ -240,13 +244,6 @@ TetMesh to_mesh(const tetgenio& out, const TriangleMesh& surface, TetStats& st) 
   return m;
 }
 
-// Step 5: sliver perturbation (Tournois, Srinivasan and Alliez 2009 perturb the vertices
-// of slivers for the same end): each inner node of a tetrahedron whose smallest dihedral
-// angle is under kPerturbBelowDeg moves, within its star, to the place among 26
-// directions at three step lengths (a tenth, a fifth and two fifths of its shortest edge)
-// that most raises its star's smallest dihedral angle, keeping every tetrahedron of the
-// star positive; rounds until none moves. Returns the nodes moved.
-
 // The smallest dihedral angle of abcd (degrees), or -1 when its volume is not positive.
 double min_dihedral_if_positive(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                                 const Eigen::Vector3d& d) {
@@ -254,6 +251,13 @@ double min_dihedral_if_positive(const Eigen::Vector3d& a, const Eigen::Vector3d&
   const std::array<double, 6> angle = dihedral_angles(a, b, c, d);
   return *std::min_element(angle.begin(), angle.end());
 }
+
+// Step 5: sliver perturbation (Tournois, Srinivasan and Alliez 2009 perturb the vertices
+// of slivers for the same end): each inner node of a tetrahedron whose smallest dihedral
+// angle is under kPerturbBelowDeg moves, within its star, to the place among 26
+// directions at three step lengths (a tenth, a fifth and two fifths of its shortest edge)
+// that most raises its star's smallest dihedral angle, keeping every tetrahedron of the
+// star positive; rounds until none moves. Returns the nodes moved.
 int64_t perturb_slivers(TetMesh& m, uint32_t surface_nodes) {
   std::vector<std::vector<uint32_t>> star(m.nodes.size());
   for (uint32_t t = 0; t < m.tets.size(); ++t)
@@ -312,16 +316,18 @@ int64_t perturb_slivers(TetMesh& m, uint32_t surface_nodes) {
 // (TetGen's -r: the sizes inside a tetrahedron interpolated from its nodes'; as the
 // background mesh of a second tetrahedralization from the surface the sizes took 15
 // times as long on the sample CT, in locating each new point in it).
-TetMesh one_pass(const TriangleMesh& surface, const TetOptions& opt, double size, TetStats& st) {
+TetMesh one_pass(const TriangleMesh& surface, const std::vector<double>& spacing, const TetOptions& opt, double size,
+                 TetStats& st) {
   tetgenio in, coarse, out;
   to_tetgen(surface, in);
   run_tetgen("pYq2.0Q", in, coarse);
-  graded_sizes(coarse, surface, mean_edge_lengths(surface), opt, size);
+  graded_sizes(coarse, surface, spacing, opt, size);
   const std::string refine =
       fmt::format("rYq{}/{}mO{}/7o/{}Q", opt.radius_edge, opt.min_dihedral, opt.optimize_level, opt.max_dihedral);
   run_tetgen(refine, coarse, out);
-  const std::vector<Eigen::Vector3d> for_flat = points_for_flat_tets(out, surface);
-  if (for_flat.empty()) return to_mesh(out, surface, st);
+  const SurfaceFaces faces = surface_faces(surface);
+  const std::vector<Eigen::Vector3d> for_flat = points_for_flat_tets(out, surface, faces);
+  if (for_flat.empty()) return to_mesh(out, faces, st);
   st.flat_tet_points = int64_t(for_flat.size());
   tetgenio add, again;
   add.numberofpoints = int(for_flat.size());
@@ -329,7 +335,7 @@ TetMesh one_pass(const TriangleMesh& surface, const TetOptions& opt, double size
   for (size_t i = 0; i < for_flat.size(); ++i)
     for (int d = 0; d < 3; ++d) add.pointlist[3 * i + size_t(d)] = for_flat[i][d];
   run_tetgen("i" + refine, coarse, again, &add);
-  return to_mesh(again, surface, st);
+  return to_mesh(again, faces, st);
 }
 
 }  // namespace
@@ -354,10 +360,11 @@ TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStat
   if (!(st.surface_volume > 0))
     throw InputError(fmt::format("tetmesh: the surface encloses {:.3g} mm3 (its triangles face inward): nothing to fill",
                                  st.surface_volume));
-  std::vector<double> spacing = mean_edge_lengths(input);
-  std::nth_element(spacing.begin(), spacing.begin() + ptrdiff_t(spacing.size() / 2), spacing.end());
-  st.size = opt.size > 0 ? opt.size : 4 * spacing[spacing.size() / 2];
-  TetMesh m = one_pass(input, opt, st.size, st);
+  const std::vector<double> spacing = mean_edge_lengths(input);
+  std::vector<double> order = spacing;
+  std::nth_element(order.begin(), order.begin() + ptrdiff_t(order.size() / 2), order.end());
+  st.size = opt.size > 0 ? opt.size : 4 * order[order.size() / 2];
+  TetMesh m = one_pass(input, spacing, opt, st.size, st);
   st.perturbed = perturb_slivers(m, uint32_t(input.vertices.size()));
   st.interior_points = int64_t(m.nodes.size()) - int64_t(input.vertices.size());
   {  // nodes on the boundary that the surface did not have
