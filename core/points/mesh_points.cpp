@@ -1,8 +1,9 @@
 #include "points/mesh_points.h"
+#include <cstdlib>
 
 namespace mpumesh::pts {
 
-PointCloud mesh_points(const TriangleMesh& mesh) {
+PointCloud mesh_points(const TriangleMesh& mesh, bool centroids) {
   PointCloud out;
   std::vector<Eigen::Vector3d> vn(mesh.vertices.size(), Eigen::Vector3d::Zero());
   for (const auto& t : mesh.triangles) {
@@ -11,8 +12,20 @@ PointCloud mesh_points(const TriangleMesh& mesh) {
     const double len = n2.norm();
     if (!(len > 0)) continue;
     for (uint32_t v : t) vn[v] += n2;
+    if (!centroids) continue;
     out.positions.push_back((a + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3);
     out.normals.push_back(n2 / len);
+  }
+  if (const char* e = getenv("NSMOOTH")) {
+    for (int it = 0; it < atoi(e); ++it) {
+      std::vector<Eigen::Vector3d> nv(vn.size(), Eigen::Vector3d::Zero());
+      for (const auto& t : mesh.triangles) {
+        Eigen::Vector3d s3 = Eigen::Vector3d::Zero();
+        for (uint32_t v : t) if (vn[v].norm() > 0) s3 += vn[v].normalized();
+        for (uint32_t v : t) nv[v] += s3;
+      }
+      vn = nv;
+    }
   }
   for (size_t v = 0; v < vn.size(); ++v) {
     const double len = vn[v].norm();

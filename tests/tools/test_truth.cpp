@@ -38,20 +38,23 @@ struct Scored {
   nlohmann::json report;
 };
 
-Scored mesh_phantom(const std::string& name) {
+// The phantom meshed by `run` from its scan, or (`remesh`) from the scan's marching-cubes
+// surface, and that surface itself, scored against the closed form.
+Scored mesh_phantom(const std::string& name, bool remesh = false) {
   Scored r;
   for (const auto& ph : phantom::suite()) {
     if (ph.name != name) continue;
-    const std::string dir = test::temp_dir("truth_" + name);
+    const std::string dir = test::temp_dir("truth_" + name + (remesh ? "_remesh" : ""));
     const Volume v = phantom::scan(ph.shape, ph.scan);
     r.pixel = v.in_plane_spacing();
     write_volume(v, dir + "/scan.nii.gz");
     const std::string t = std::to_string(phantom::half_level(ph.scan));
-    const Result run_ours = run("run " + dir + "/scan.nii.gz --threshold " + t + " --backend cpu --quiet -o " + dir +
-                                "/ours.ply --report " + dir + "/ours.json");
-    EXPECT_EQ(run_ours.code, 0) << run_ours.out;
     const Result run_mc = run("mc " + dir + "/scan.nii.gz --threshold " + t + " --backend cpu --quiet -o " + dir + "/mc.ply");
     EXPECT_EQ(run_mc.code, 0) << run_mc.out;
+    const std::string input = remesh ? dir + "/mc.ply" : dir + "/scan.nii.gz --threshold " + t;
+    const Result run_ours =
+        run("run " + input + " --backend cpu --quiet -o " + dir + "/ours.ply --report " + dir + "/ours.json");
+    EXPECT_EQ(run_ours.code, 0) << run_ours.out;
     r.ours = phantom::truth_figures(read_mesh(dir + "/ours.ply"), ph.shape);
     r.mc = phantom::truth_figures(read_mesh(dir + "/mc.ply"), ph.shape);
     r.report = nlohmann::json::parse(read_file(dir + "/ours.json"));
@@ -115,6 +118,27 @@ TEST(Truth, ThinShell) {
   const Scored s = mesh_phantom("shell");
   expect_count_distance_and_normals(s);
   EXPECT_LE(s.ours.gauss_median_error, kTarget.gauss_error);
+}
+
+// The scan's marching-cubes surface remeshed, on every phantom: its vertices are the
+// data. The grey levels' partial volume is lost with the scan, so the normals are held
+// to a looser bound than the scan's (on the tilted torus they come out at 1.7° mean and
+// 4.6° p95, against 1.4° and 3.0° from the scan); the distance to the same.
+TEST(Truth, RemeshedMarchingCubesSurface) {
+  constexpr double kNormalMeanDeg = 2, kNormalP95Deg = 5;
+  for (const char* name : {"ellipsoid", "torus", "capsule", "shell"}) {
+    SCOPED_TRACE(name);
+    const Scored s = mesh_phantom(name, true);
+    EXPECT_GE(s.ours.triangles, kTarget.min_triangles);
+    EXPECT_LE(s.ours.triangles, kTarget.max_triangles);
+    EXPECT_LE(s.ours.distance_mean, kTarget.distance_over_pixel * s.pixel);
+    EXPECT_LT(s.ours.distance_mean, s.mc.distance_mean);
+    EXPECT_LE(s.ours.normal_mean_deg, kNormalMeanDeg);
+    EXPECT_LE(s.ours.normal_p95_deg, kNormalP95Deg);
+    EXPECT_EQ(s.report["points"].get<int64_t>(), s.report["input"]["vertices"].get<int64_t>());
+    EXPECT_NE(s.report["fit"]["eps_source"].get<std::string>().find("voxel grid the input's vertices lie on"),
+              std::string::npos);
+  }
 }
 
 }  // namespace
