@@ -155,10 +155,12 @@ void add_summary(report::HtmlPage& page, const nlohmann::json& run) {
     const auto& a = o.contains("after") ? o["after"] : none;
     page.paragraph(report::escape_html(fmt::format(
         "Mesh optimisation: {} rounds of Delaunay flips, collapses of poor triangles' shortest edges and centroidal "
-        "relaxation on the surface, then moves of the poorest triangles' vertices ({} flips, {} collapses, {} moves, {} "
-        "polishing moves, {:.2f} s): smallest angle {:.1f}° before, {:.1f}° after; triangles under 30° {:.2f}% before, {:.2f}% after; "
+        "relaxation on the surface, with flips for smoothness in the last rounds, then moves of the poorest triangles' "
+        "vertices ({} flips, {} flips for smoothness, {} collapses, {} moves, {} polishing moves, {:.2f} s): smallest "
+        "angle {:.1f}° before, {:.1f}° after; triangles under 30° {:.2f}% before, {:.2f}% after; "
         "mean radius ratio {:.3f} before, {:.3f} after.",
-        count(o, "rounds"), count(o, "flips"), count(o, "collapses"), count(o, "moves"), count(o, "polish_moves"), figure(o, "seconds"), figure(b, "min_angle_deg"),
+        count(o, "rounds"), count(o, "flips"), count(o, "smoothing_flips"), count(o, "collapses"), count(o, "moves"),
+        count(o, "polish_moves"), figure(o, "seconds"), figure(b, "min_angle_deg"),
         figure(a, "min_angle_deg"), figure(b, "pct_below_30_deg"), figure(a, "pct_below_30_deg"),
         figure(b, "radius_ratio_mean"), figure(a, "radius_ratio_mean"))));
   }

@@ -191,7 +191,7 @@ nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeli
   };
   const OptimizeStats& op = r.optimization;
   j["optimization"] = {{"rounds", op.rounds},     {"flips", op.flips},   {"moves", op.moves}, {"collapses", op.collapses},
-                       {"polish_moves", op.polish_moves}, {"retries", op.retries},   {"frozen", op.frozen}, {"seconds", op.seconds},
+                       {"polish_moves", op.polish_moves}, {"smoothing_flips", op.smooth_flips}, {"retries", op.retries},   {"frozen", op.frozen}, {"seconds", op.seconds},
                        {"before", shape(op.before)}, {"after", shape(op.after)}};
   j["backend"] = backend_json(choice);
   j["kernel_ms"] = choice.backend->kernel_ms();

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <unordered_map>
 #include <unordered_set>
@@ -47,23 +48,58 @@ std::vector<double> surface_distances(const mpu::MpuSurface& s, ComputeBackend& 
   return d;
 }
 
-struct Flip {
-  uint32_t f1, f2;
-  Tri old1, old2;
-};
-
-// The flips of one pass (see the header), applied; returns them.
-std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
-  auto& T = m.triangles;
-  const auto& x = m.vertices;
-  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> edges;  // key -> faces (second: UINT32_MAX)
+// Each edge's two faces (the second UINT32_MAX on a border).
+using EdgeFaces = std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>>;
+EdgeFaces edge_faces(const std::vector<Tri>& T) {
+  EdgeFaces edges;
   edges.reserve(T.size() * 2);
   for (uint32_t f = 0; f < T.size(); ++f)
     for (int k = 0; k < 3; ++k) {
       auto [it, fresh] = edges.try_emplace(edge_key(T[f][size_t(k)], T[f][size_t((k + 1) % 3)]), f, UINT32_MAX);
       if (!fresh) it->second.second = f;
     }
+  return edges;
+}
+
+// The edges in a fixed order, whatever the hash table's.
+std::vector<uint64_t> sorted_keys(const EdgeFaces& edges) {
+  std::vector<uint64_t> keys;
+  keys.reserve(edges.size());
+  for (const auto& [key, faces] : edges) keys.push_back(key);
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+struct Flip {
+  uint32_t f1, f2;
+  Tri old1, old2;
+};
+
+// Undoes the flips (whose faces are `changed`) that made a face cross another (exact
+// predicates; the faces across a thin plate or a rim); returns how many.
+int64_t undo_crossing_flips(TriangleMesh& m, const std::vector<Flip>& done, std::vector<uint32_t> changed) {
+  int64_t undone = 0;
+  for (int round = 0; round < 3 && !changed.empty(); ++round) {
+    std::unordered_set<uint32_t> crossing;
+    for (const auto& [f, g] : intersecting_triangles(m, &changed)) crossing.insert({f, g});
+    changed.clear();
+    for (const Flip& fl : done)
+      if ((crossing.count(fl.f1) || crossing.count(fl.f2)) && m.triangles[fl.f1] != fl.old1) {
+        m.triangles[fl.f1] = fl.old1;
+        m.triangles[fl.f2] = fl.old2;
+        changed.insert(changed.end(), {fl.f1, fl.f2});
+        ++undone;
+      }
+  }
+  return undone;
+}
+
+// The flips of one pass (see the header), applied; returns them.
+std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  auto& T = m.triangles;
+  const auto& x = m.vertices;
+  EdgeFaces edges = edge_faces(T);
   struct Candidate {
     uint32_t f1, f2;
     Tri n1, n2;
@@ -72,10 +108,7 @@ std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   std::vector<Candidate> cand;
   std::vector<Eigen::Vector3d> mids;
   const double cos_flat = std::cos(opt.max_flip_dihedral_deg * M_PI / 180);
-  std::vector<uint64_t> keys;
-  keys.reserve(edges.size());
-  for (const auto& [key, faces] : edges) keys.push_back(key);
-  std::sort(keys.begin(), keys.end());  // a fixed order, whatever the hash table's
+  const std::vector<uint64_t> keys = sorted_keys(edges);
   for (uint64_t key : keys) {
     const auto [f1, f2] = edges[key];
     if (f2 == UINT32_MAX) continue;
@@ -115,6 +148,114 @@ std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
     made.insert(c.new_edge);
   }
   return done;
+}
+
+// The angle between two triangles' normals (any lengths), in degrees.
+double normals_angle_deg(const Eigen::Vector3d& n1, const Eigen::Vector3d& n2) {
+  return std::atan2(n1.cross(n2).norm(), n1.dot(n2)) * 180 / M_PI;
+}
+
+// A smoothing flip (step 5): the edge ab of the faces f1 = abc and f2 = bad becomes cd.
+// `near` holds f1, f2 and the four faces across their outer edges.
+struct SmoothFlip {
+  uint32_t f1, f2;
+  Tri n1, n2;
+  uint64_t new_edge;
+  double gain;  // the fall of the five edges' dihedral sum, degrees
+  std::array<uint32_t, 6> near;
+};
+
+// The flip of the edge `key`, if it makes the surface smoother at little cost to the
+// shapes (see step 5 in the header).
+std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces& edges, uint64_t key,
+                                         const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  const auto& T = m.triangles;
+  const auto& x = m.vertices;
+  const auto [f1, f2] = edges.at(key);
+  if (f2 == UINT32_MAX) return std::nullopt;
+  const Tri& t1 = T[f1];
+  int k = 0;
+  while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
+  const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
+  uint32_t d = UINT32_MAX;
+  for (uint32_t v : T[f2])
+    if (v != a && v != b) d = v;
+  if (d == UINT32_MAX || c == d) return std::nullopt;
+  const Eigen::Vector3d o1 = area_normal(x, t1), o2 = area_normal(x, T[f2]);
+  const double before = normals_angle_deg(o1, o2);
+  if (before < opt.smooth_flip_above_deg) return std::nullopt;
+  if (frozen[a] || frozen[b] || frozen[c] || frozen[d] || edges.count(edge_key(c, d))) return std::nullopt;
+  const Tri n1 = {a, d, c}, n2 = {b, c, d};
+  const Eigen::Vector3d m1 = area_normal(x, n1), m2 = area_normal(x, n2);
+  if (!(m1.dot(o1 + o2) > 0) || !(m2.dot(o1 + o2) > 0)) return std::nullopt;
+  if (std::min(triangle_min_angle_deg(x[a], x[d], x[c]), triangle_min_angle_deg(x[b], x[c], x[d])) < opt.min_keep_deg)
+    return std::nullopt;
+  const auto across = [&](uint32_t u, uint32_t v, uint32_t f) {
+    const auto& [g1, g2] = edges.at(edge_key(u, v));
+    return g1 == f ? g2 : g1;
+  };
+  // The four outer edges: ca and bc were f1's, ad and db f2's.
+  const std::array<uint32_t, 6> near = {f1, f2, across(c, a, f1), across(b, c, f1), across(a, d, f2), across(d, b, f2)};
+  if (std::count(near.begin(), near.end(), UINT32_MAX) > 0) return std::nullopt;
+  const Eigen::Vector3d nca = area_normal(x, T[near[2]]), nbc = area_normal(x, T[near[3]]);
+  const Eigen::Vector3d nad = area_normal(x, T[near[4]]), ndb = area_normal(x, T[near[5]]);
+  const std::array<double, 5> was = {before, normals_angle_deg(o1, nca), normals_angle_deg(o1, nbc),
+                                     normals_angle_deg(o2, nad), normals_angle_deg(o2, ndb)};
+  const std::array<double, 5> now = {normals_angle_deg(m1, m2), normals_angle_deg(m1, nca), normals_angle_deg(m2, nbc),
+                                     normals_angle_deg(m1, nad), normals_angle_deg(m2, ndb)};
+  // No sharper fold than there was: a fold near 180° would hold a flat tetrahedron in a
+  // volume mesh.
+  if (*std::max_element(now.begin(), now.end()) > *std::max_element(was.begin(), was.end())) return std::nullopt;
+  const double gain = std::accumulate(was.begin(), was.end(), 0.0) - std::accumulate(now.begin(), now.end(), 0.0);
+  if (!(gain > opt.smooth_flip_gain_deg)) return std::nullopt;
+  const double shape_loss = triangle_radius_ratio(x[a], x[b], x[c]) + triangle_radius_ratio(x[b], x[a], x[d]) -
+                            triangle_radius_ratio(x[a], x[d], x[c]) - triangle_radius_ratio(x[b], x[c], x[d]);
+  if (shape_loss > opt.smooth_flip_shape_per_deg * gain) return std::nullopt;
+  return SmoothFlip{f1, f2, n1, n2, edge_key(c, d), gain, near};
+}
+
+// The flips of one pass of step 5, applied; returns how many were kept.
+int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  auto& T = m.triangles;
+  const auto& x = m.vertices;
+  const EdgeFaces edges = edge_faces(T);
+  const std::vector<uint64_t> keys = sorted_keys(edges);
+  std::vector<std::optional<SmoothFlip>> found(keys.size());
+  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { found[i] = smoothing_flip(m, edges, keys[i], opt, frozen); });
+  std::vector<SmoothFlip> cand;
+  std::vector<Eigen::Vector3d> mids;
+  for (const auto& f : found)
+    if (f) {
+      mids.push_back(0.5 * (x[f->n1[0]] + x[f->n2[0]]));  // ab
+      mids.push_back(0.5 * (x[f->n1[1]] + x[f->n1[2]]));  // cd
+      cand.push_back(*f);
+    }
+  const std::vector<double> dist = surface_distances(s, backend, mids);
+  // The largest gains first; a face and its neighbours take one flip a pass (the gains
+  // were reckoned with the neighbours as they were), and the new edge must lie as near
+  // the surface as the old one, as in step 1.
+  std::vector<size_t> order(cand.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](size_t i, size_t j) { return cand[i].gain > cand[j].gain; });
+  std::vector<char> locked(T.size(), 0);
+  std::unordered_set<uint64_t> made;
+  std::vector<Flip> done;
+  std::vector<uint32_t> changed;
+  for (size_t i : order) {
+    const SmoothFlip& f = cand[i];
+    if (made.count(f.new_edge) || std::any_of(f.near.begin(), f.near.end(), [&](uint32_t g) { return locked[g]; }))
+      continue;
+    const double len = (x[f.n1[1]] - x[f.n1[2]]).norm();
+    if (!(dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len))) continue;
+    done.push_back({f.f1, f.f2, T[f.f1], T[f.f2]});
+    T[f.f1] = f.n1;
+    T[f.f2] = f.n2;
+    for (uint32_t g : f.near) locked[g] = 1;
+    made.insert(f.new_edge);
+    changed.insert(changed.end(), {f.f1, f.f2});
+  }
+  return int64_t(done.size()) - undo_crossing_flips(m, done, changed);
 }
 
 // The triangles not marked `gone`, in their order.
@@ -476,9 +617,10 @@ int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& b
 void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen,
                      OptimizeStats& st) {
-  st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0;
+  st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0, st.smooth_flips = 0;
   for (int round = 0; round < opt.rounds; ++round) {
     st.flips += int64_t(flip_pass(mesh, s, backend, opt, frozen).size());
+    if (round >= opt.rounds - opt.smooth_flip_rounds) st.smooth_flips += smoothing_flip_pass(mesh, s, backend, opt, frozen);
     st.collapses += collapse_pass(mesh, s, backend, spacing, opt, frozen);
     st.moves += int64_t(relax_pass(mesh, s, backend, spacing, vertex_faces(mesh), opt, frozen).size());
     ++st.rounds;
@@ -528,7 +670,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
     st.retries = attempt + 1;
     if (attempt == 2) {
       mesh = input;
-      st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0;
+      st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0, st.smooth_flips = 0;
       break;
     }
     for (const auto& [a, b] : pairs)

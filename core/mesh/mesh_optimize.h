@@ -4,7 +4,8 @@
 // 1. flips every edge that is not locally Delaunay (its two opposite angles add up to
 //    more than π) where the two triangles are nearly coplanar (their normals within
 //    max_flip_dihedral_deg) and the new edge's midpoint lies no farther from the surface
-//    than the old one's, or than flip_offset of the edge's length;
+//    than the old one's, or than flip_offset of the edge's length; in the last
+//    smooth_flip_rounds rounds, step 5's flips follow;
 // 2. collapses the shortest edge of each triangle whose smallest angle is under
 //    min_keep_deg, the poorest first, where the mesh stays a manifold (the edge's ends
 //    share only its two opposite vertices, and each of those keeps three neighbours) and
@@ -32,6 +33,19 @@
 //    in the tangent plane, a few passes), turning no triangle by more than max_turn_deg:
 //    the rounds' centroids even the shapes on the whole but leave a few triangles near
 //    20° where the surface folds sharply (the rim of a thin plate).
+// 5. Flips for smoothness (a data-dependent triangulation, Dyn, Levin and Rippa 1990):
+//    an edge between triangles more than smooth_flip_above_deg apart is flipped when the
+//    sum of the dihedral angles at it and at the four edges around it falls by more than
+//    smooth_flip_gain_deg, neither new triangle has an angle under min_keep_deg, the two
+//    triangles lose no more than smooth_flip_shape_per_deg of radius ratio per degree
+//    gained, none of the five edges folds more sharply than the sharpest did (a fold
+//    near 180° holds a flat tetrahedron in a volume mesh), and the new edge lies as near
+//    the surface as in step 1. The largest gains go first, one flip per patch of six
+//    triangles a pass; a flip whose triangles then cross another is undone (exact
+//    predicates). Delaunay flips alone choose the diagonal of a quad by its angles,
+//    whichever way the surface bends across it; where it bends one way (a ridge, a
+//    saddle, a plate's rim) the other diagonal can follow it. The relaxation after it
+//    evens the shapes again.
 // Triangles that then cross others (exact predicates, mesh/cgal_geometry.h) have their
 // vertices frozen and the rounds are done again; after three tries, the mesh is kept as
 // it was.
@@ -59,6 +73,10 @@ struct OptimizeOptions {
   double flat_cap_deg = 15;           // step 4's vertices of three triangles
   double polish_below_deg = 25;       // step 4's triangles
   int polish_passes = 4;              // 0: no step 4
+  int smooth_flip_rounds = 3;         // the last rounds that do step 5 (0: none)
+  double smooth_flip_above_deg = 10;  // step 5's edges: their dihedral angle at least this
+  double smooth_flip_gain_deg = 1;    // step 5: the five edges' dihedral sum falls by more
+  double smooth_flip_shape_per_deg = 0.01;  // step 5: radius ratio the pair may lose per degree gained
   int newton_steps = 3;
 };
 
@@ -73,6 +91,7 @@ struct OptimizeStats {
   int64_t flips = 0, moves = 0;   // over all rounds (a vertex moved in two rounds counts twice)
   int64_t collapses = 0;          // edges collapsed and flat vertices removed, each a vertex and two triangles fewer
   int64_t polish_moves = 0;       // step 4's
+  int64_t smooth_flips = 0;       // step 5's
   int retries = 0;                // rounds done again with frozen vertices (three: none kept)
   int64_t frozen = 0;             // vertices frozen for that
   ShapeFigures before, after;

@@ -29,6 +29,28 @@ struct Case {
   std::vector<double> spacing;
 };
 
+// A torus (radii 16 and 5 mm) meshed coarsely: a jittered 40 x 12 grid of its angles, so
+// that about 30° lies between neighbouring triangles around the tube.
+Case make_torus() {
+  Case r;
+  r.shape = {test::AnalyticShape::kTorus, 16, 5, 5};
+  r.surface = mpu::fit_mpu(test::sample_shape(r.shape, 0.4, 0.4, true), {});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  std::vector<Eigen::Vector3d> points;
+  const int nu = 40, nv = 12;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2 * M_PI * (i + jitter(rng)) / nu, v = 2 * M_PI * (j + jitter(rng)) / nv;
+      Eigen::Vector3d p((16 + 5 * std::cos(v)) * std::cos(u), (16 + 5 * std::cos(v)) * std::sin(u), 5 * std::sin(v));
+      particles::newton_project(r.surface, p, 8, 5.0);
+      points.push_back(p);
+    }
+  r.mesh = restricted_delaunay(r.surface, points);
+  r.spacing.assign(r.mesh.vertices.size(), 2.6);
+  return r;
+}
+
 const Case& ellipsoid() {
   static const Case c = [] {
     Case r;
@@ -114,6 +136,34 @@ TEST(MeshOptimize, KeepsTheSizesItIsGiven) {
   std::printf("share of the vertices at x > 0: before %.3f, even sizes %.3f, denser there %.3f\n", share_right(c.mesh),
               share_right(even), share_right(m));
   EXPECT_GT(share_right(m), share_right(even) + 0.01);
+}
+
+TEST(MeshOptimize, FlipsEdgesToASmootherSurface) {
+  // The coarse torus optimised without and with step 5: a lower mean dihedral angle, at
+  // the cost of little radius ratio, and still closed and crossing nothing.
+  const Case c = make_torus();
+  CpuBackend cpu;
+  OptimizeOptions without;
+  without.smooth_flip_rounds = 0;
+  TriangleMesh m0 = c.mesh, m1 = c.mesh;
+  const OptimizeStats s0 = optimize_mesh(m0, c.surface, cpu, c.spacing, without);
+  const OptimizeStats s1 = optimize_mesh(m1, c.surface, cpu, c.spacing);
+  QualityOptions q;
+  q.self_intersections = false;
+  const Quality q0 = measure_quality(m0, q), q1 = measure_quality(m1, q);
+  std::printf("mean dihedral %.3f -> %.3f deg, radius ratio %.4f -> %.4f, smallest angle %.2f -> %.2f, %lld flips\n",
+              q0.dihedral_mean, q1.dihedral_mean, s0.after.radius_ratio, s1.after.radius_ratio, s0.after.min_angle_deg,
+              s1.after.min_angle_deg, (long long)s1.smooth_flips);
+  EXPECT_EQ(s0.smooth_flips, 0);
+  EXPECT_GT(s1.smooth_flips, 0);
+  EXPECT_LT(q1.dihedral_mean, q0.dihedral_mean - 0.05);
+  EXPECT_GT(s1.after.radius_ratio, s0.after.radius_ratio - 0.005);
+  EXPECT_GE(s1.after.min_angle_deg, 25.0);
+  const Topology t = analyze_topology(m1);
+  EXPECT_TRUE(t.closed && t.oriented);
+  EXPECT_EQ(t.genus, 1);
+  EXPECT_EQ(t.nonmanifold_edges + t.nonmanifold_vertices, 0);
+  EXPECT_EQ(count_self_intersections(m1), 0);
 }
 
 // The vertices of three triangles whose tetrahedron with their neighbours is flat (a
