@@ -16,7 +16,7 @@ Volume parse_inv3(const std::string& bytes, const std::string& name) {
   auto main_it = files.find("main.plist");
   if (main_it == files.end()) throw InputError(name + ": not an InVesalius project (no main.plist)");
   const std::string doc = name + " (main.plist)";
-  const plist::Value root = plist::parse(main_it->second, doc);
+  const plist::Value root = plist::parse(std::string(main_it->second), doc);
   const plist::Value& matrix = root.at("matrix", doc);
   const std::string dtype = matrix.at("dtype", doc).as_string(doc);
   const std::string fname = matrix.at("filename", doc).as_string(doc);
@@ -44,20 +44,26 @@ Volume parse_inv3(const std::string& bytes, const std::string& name) {
   else throw InputError(doc + ": unsupported matrix dtype '" + dtype + "'");
   auto data_it = files.find(fname);
   if (data_it == files.end()) throw InputError(name + ": the matrix file '" + fname + "' is missing");
-  const std::string& raw = data_it->second;
+  const std::string_view raw = data_it->second;
   const uint64_t need = uint64_t(v.voxel_count()) * uint64_t(bytes_per);
   if (raw.size() != need)
     throw InputError(name + ": " + fname + " holds " + std::to_string(raw.size()) + " bytes, the shape needs " +
                      std::to_string(need) + " (truncated or wrong shape)");
   v.voxels.resize(size_t(v.voxel_count()));
-  const char* p = raw.data();
-  for (size_t i = 0; i < v.voxels.size(); ++i) {  // numpy little-endian
-    if (dtype == "int16") { int16_t x; std::memcpy(&x, p + 2 * i, 2); v.voxels[i] = x; }
-    else if (dtype == "uint16") { uint16_t x; std::memcpy(&x, p + 2 * i, 2); v.voxels[i] = x; }
-    else if (dtype == "float32") { float x; std::memcpy(&x, p + 4 * i, 4); v.voxels[i] = x; }
-    else if (dtype == "uint8") v.voxels[i] = uint8_t(p[i]);
-    else v.voxels[i] = int8_t(p[i]);
-  }
+  // numpy's little-endian values, one loop per type.
+  const auto convert = [&]<typename T>(T) {
+    const char* p = raw.data();
+    for (size_t i = 0; i < v.voxels.size(); ++i) {
+      T x;
+      std::memcpy(&x, p + sizeof(T) * i, sizeof(T));
+      v.voxels[i] = float(x);
+    }
+  };
+  if (dtype == "int16") convert(int16_t{});
+  else if (dtype == "uint16") convert(uint16_t{});
+  else if (dtype == "float32") convert(float{});
+  else if (dtype == "uint8") convert(uint8_t{});
+  else convert(int8_t{});
   validate_volume(v, name);
   return v;
 }

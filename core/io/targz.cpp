@@ -2,6 +2,7 @@
 
 #include <zlib.h>
 
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -28,20 +29,32 @@ std::string gunzip(const std::string& gz, const std::string& name, uint64_t max_
     throw InputError(name + ": not a gzip-compressed file (wrong magic)");
   z_stream zs{};
   if (inflateInit2(&zs, 15 + 32) != Z_OK) throw InputError(name + ": zlib initialisation failed");
-  std::string out;
   zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(gz.data()));
   zs.avail_in = uInt(gz.size());
-  char buf[1 << 16];
+  // Inflated in place into the output, which starts at the size the last member's trailer
+  // gives (ISIZE, the size modulo 2^32: a hint only, held to deflate's largest ratio,
+  // 1032:1, so that a forged trailer cannot make it large) and doubles when that is short.
+  uint32_t isize = 0;
+  std::memcpy(&isize, gz.data() + gz.size() - 4, 4);  // little-endian, as gzip stores it
+  const uint64_t hint = std::min<uint64_t>({isize, 1032 * uint64_t(gz.size()), max_bytes + 1});
+  std::string out(size_t(std::max<uint64_t>(hint, 1 << 16)), '\0');
+  size_t used = 0;
   int rc = Z_OK;
   while (true) {
-    zs.next_out = reinterpret_cast<Bytef*>(buf);
-    zs.avail_out = sizeof buf;
+    if (used == out.size()) out.resize(size_t(std::min<uint64_t>(2 * out.size(), max_bytes + 1)));
+    zs.next_out = reinterpret_cast<Bytef*>(out.data() + used);
+    zs.avail_out = uInt(std::min<size_t>(out.size() - used, 1u << 30));
+    const size_t room = zs.avail_out;
     rc = inflate(&zs, Z_NO_FLUSH);
-    if (rc != Z_OK && rc != Z_STREAM_END) break;
-    out.append(buf, sizeof buf - zs.avail_out);
-    if (out.size() > max_bytes) {
+    if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) break;
+    used += room - zs.avail_out;
+    if (used > max_bytes) {
       inflateEnd(&zs);
       throw InputError(name + ": unpacks to more than " + std::to_string(max_bytes >> 20) + " MiB");
+    }
+    if (rc == Z_BUF_ERROR) {
+      if (zs.avail_out == 0) continue;  // the output was full: it grows
+      break;                            // the input ended within a member
     }
     if (rc == Z_STREAM_END) {
       if (zs.avail_in == 0) break;
@@ -50,11 +63,12 @@ std::string gunzip(const std::string& gz, const std::string& name, uint64_t max_
   }
   inflateEnd(&zs);
   if (rc != Z_STREAM_END) throw InputError(name + ": corrupt or truncated gzip data");
+  out.resize(used);
   return out;
 }
 
-std::map<std::string, std::string> untar(const std::string& tar, const std::string& name) {
-  std::map<std::string, std::string> files;
+std::map<std::string, std::string_view> untar(const std::string& tar, const std::string& name) {
+  std::map<std::string, std::string_view> files;
   size_t at = 0;
   while (at + 512 <= tar.size()) {
     const char* h = tar.data() + at;
@@ -75,7 +89,7 @@ std::map<std::string, std::string> untar(const std::string& tar, const std::stri
     if (size > tar.size() - at) throw InputError(name + ": truncated tar archive ('" + fname + "' is cut short)");
     if (type == '0' || type == '\0') {
       auto slash = fname.find_last_of('/');
-      files[slash == std::string::npos ? fname : fname.substr(slash + 1)] = tar.substr(at, size);
+      files[slash == std::string::npos ? fname : fname.substr(slash + 1)] = std::string_view(tar).substr(at, size);
     }
     at += (size + 511) / 512 * 512;
   }

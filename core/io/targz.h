@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <string_view>
 
 namespace mpumesh {
 
@@ -16,7 +17,8 @@ std::string gunzip(const std::string& gz, const std::string& name, uint64_t max_
 // archives in memory.
 std::string gzip(const std::string& bytes);
 
-// File name (without leading directories) to contents.
-std::map<std::string, std::string> untar(const std::string& tar, const std::string& name);
+// File name (without leading directories) to contents: views into `tar`, which must
+// outlive them (an .inv3 volume is tens of MB, not copied again).
+std::map<std::string, std::string_view> untar(const std::string& tar, const std::string& name);
 
 }  // namespace mpumesh
