@@ -94,50 +94,64 @@ int64_t undo_crossing_flips(TriangleMesh& m, const std::vector<Flip>& done, std:
   return undone;
 }
 
+// A Delaunay flip (step 1): the edge ab of the faces f1 = abc and f2 = bad becomes cd.
+struct DelaunayFlip {
+  uint32_t f1, f2;
+  Tri n1, n2;
+  uint64_t new_edge;
+};
+
+// The flip of the edge `key`, if it is not locally Delaunay and its triangles are nearly
+// coplanar (see step 1 in the header).
+std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces& edges, uint64_t key,
+                                          const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  const auto& T = m.triangles;
+  const auto& x = m.vertices;
+  const auto [f1, f2] = edges.at(key);
+  if (f2 == UINT32_MAX) return std::nullopt;
+  // f1 holds the edge as a -> b; f2 as b -> a.
+  const Tri& t1 = T[f1];
+  int k = 0;
+  while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
+  const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
+  const Tri& t2 = T[f2];
+  uint32_t d = UINT32_MAX;
+  for (uint32_t v : t2)
+    if (v != a && v != b) d = v;
+  if (d == UINT32_MAX || c == d) return std::nullopt;
+  if (angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9) return std::nullopt;  // Delaunay already
+  if (frozen[a] || frozen[b] || frozen[c] || frozen[d] || edges.count(edge_key(c, d))) return std::nullopt;
+  const Tri n1 = {a, d, c}, n2 = {b, c, d};
+  const Eigen::Vector3d o = (area_normal(x, t1).normalized() + area_normal(x, t2).normalized());
+  const Eigen::Vector3d m1 = area_normal(x, n1).normalized(), m2 = area_normal(x, n2).normalized();
+  if (!(m1.dot(m2) >= std::cos(opt.max_flip_dihedral_deg * M_PI / 180)) || !(m1.dot(o) > 0) || !(m2.dot(o) > 0))
+    return std::nullopt;
+  return DelaunayFlip{f1, f2, n1, n2, edge_key(c, d)};
+}
+
 // The flips of one pass (see the header), applied; returns them.
 std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
                             const OptimizeOptions& opt, const std::vector<char>& frozen) {
   auto& T = m.triangles;
   const auto& x = m.vertices;
-  EdgeFaces edges = edge_faces(T);
-  struct Candidate {
-    uint32_t f1, f2;
-    Tri n1, n2;
-    uint64_t new_edge;
-  };
-  std::vector<Candidate> cand;
-  std::vector<Eigen::Vector3d> mids;
-  const double cos_flat = std::cos(opt.max_flip_dihedral_deg * M_PI / 180);
+  const EdgeFaces edges = edge_faces(T);
   const std::vector<uint64_t> keys = sorted_keys(edges);
-  for (uint64_t key : keys) {
-    const auto [f1, f2] = edges[key];
-    if (f2 == UINT32_MAX) continue;
-    // f1 holds the edge as a -> b; f2 as b -> a.
-    const Tri& t1 = T[f1];
-    int k = 0;
-    while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
-    const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
-    const Tri& t2 = T[f2];
-    uint32_t d = UINT32_MAX;
-    for (uint32_t v : t2)
-      if (v != a && v != b) d = v;
-    if (d == UINT32_MAX || c == d || edges.count(edge_key(c, d))) continue;
-    if (frozen[a] || frozen[b] || frozen[c] || frozen[d]) continue;
-    if (angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9) continue;  // Delaunay already
-    const Tri n1 = {a, d, c}, n2 = {b, c, d};
-    const Eigen::Vector3d o = (area_normal(x, t1).normalized() + area_normal(x, t2).normalized());
-    const Eigen::Vector3d m1 = area_normal(x, n1).normalized(), m2 = area_normal(x, n2).normalized();
-    if (!(m1.dot(m2) >= cos_flat) || !(m1.dot(o) > 0) || !(m2.dot(o) > 0)) continue;
-    cand.push_back({f1, f2, n1, n2, edge_key(c, d)});
-    mids.push_back(0.5 * (x[a] + x[b]));
-    mids.push_back(0.5 * (x[c] + x[d]));
-  }
+  std::vector<std::optional<DelaunayFlip>> found(keys.size());
+  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { found[i] = delaunay_flip(m, edges, keys[i], opt, frozen); });
+  std::vector<DelaunayFlip> cand;
+  std::vector<Eigen::Vector3d> mids;
+  for (const auto& f : found)
+    if (f) {
+      mids.push_back(0.5 * (x[f->n1[0]] + x[f->n2[0]]));  // ab
+      mids.push_back(0.5 * (x[f->n1[1]] + x[f->n1[2]]));  // cd
+      cand.push_back(*f);
+    }
   const std::vector<double> dist = surface_distances(s, backend, mids);
   std::vector<char> locked(T.size(), 0);
   std::unordered_set<uint64_t> made;
   std::vector<Flip> done;
   for (size_t i = 0; i < cand.size(); ++i) {
-    const Candidate& c = cand[i];
+    const DelaunayFlip& c = cand[i];
     if (locked[c.f1] || locked[c.f2] || made.count(c.new_edge)) continue;
     const double len = (x[c.n1[2]] - x[c.n1[1]]).norm();  // c - d
     if (!(dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len))) continue;
