@@ -190,9 +190,17 @@ nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeli
     return nlohmann::json{{"min_angle_deg", f.min_angle_deg}, {"pct_below_30_deg", f.pct_below_30}, {"radius_ratio_mean", f.radius_ratio}};
   };
   const OptimizeStats& op = r.optimization;
-  j["optimization"] = {{"rounds", op.rounds},     {"flips", op.flips},   {"moves", op.moves}, {"collapses", op.collapses},
-                       {"polish_moves", op.polish_moves}, {"smoothing_flips", op.smooth_flips}, {"retries", op.retries},   {"frozen", op.frozen}, {"seconds", op.seconds},
-                       {"before", shape(op.before)}, {"after", shape(op.after)}};
+  j["optimization"] = {{"rounds", op.rounds},
+                       {"flips", op.flips},
+                       {"smoothing_flips", op.smooth_flips},
+                       {"moves", op.moves},
+                       {"collapses", op.collapses},
+                       {"polish_moves", op.polish_moves},
+                       {"retries", op.retries},
+                       {"frozen", op.frozen},
+                       {"seconds", op.seconds},
+                       {"before", shape(op.before)},
+                       {"after", shape(op.after)}};
   j["backend"] = backend_json(choice);
   j["kernel_ms"] = choice.backend->kernel_ms();
   j["output"] = output;

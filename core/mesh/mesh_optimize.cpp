@@ -137,7 +137,8 @@ std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   const EdgeFaces edges = edge_faces(T);
   const std::vector<uint64_t> keys = sorted_keys(edges);
   std::vector<std::optional<DelaunayFlip>> found(keys.size());
-  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { found[i] = delaunay_flip(m, edges, keys[i], opt, frozen); });
+  tbb::parallel_for(size_t(0), keys.size(),
+                    [&](size_t i) { found[i] = delaunay_flip(m, edges, keys[i], opt, frozen); });
   std::vector<DelaunayFlip> cand;
   std::vector<Eigen::Vector3d> mids;
   for (const auto& f : found)
@@ -236,7 +237,8 @@ int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   const EdgeFaces edges = edge_faces(T);
   const std::vector<uint64_t> keys = sorted_keys(edges);
   std::vector<std::optional<SmoothFlip>> found(keys.size());
-  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { found[i] = smoothing_flip(m, edges, keys[i], opt, frozen); });
+  tbb::parallel_for(size_t(0), keys.size(),
+                    [&](size_t i) { found[i] = smoothing_flip(m, edges, keys[i], opt, frozen); });
   std::vector<SmoothFlip> cand;
   std::vector<Eigen::Vector3d> mids;
   for (const auto& f : found)
@@ -634,7 +636,8 @@ void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBacken
   st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0, st.smooth_flips = 0;
   for (int round = 0; round < opt.rounds; ++round) {
     st.flips += int64_t(flip_pass(mesh, s, backend, opt, frozen).size());
-    if (round >= opt.rounds - opt.smooth_flip_rounds) st.smooth_flips += smoothing_flip_pass(mesh, s, backend, opt, frozen);
+    if (round >= opt.rounds - opt.smooth_flip_rounds)
+      st.smooth_flips += smoothing_flip_pass(mesh, s, backend, opt, frozen);
     st.collapses += collapse_pass(mesh, s, backend, spacing, opt, frozen);
     st.moves += int64_t(relax_pass(mesh, s, backend, spacing, vertex_faces(mesh), opt, frozen).size());
     ++st.rounds;

@@ -67,7 +67,8 @@ particles::SampleOptions denser(particles::SampleOptions x, int64_t asked) {
   return x;
 }
 
-// A closed manifold mesh to its points (the vertices, with area-weighted normals).
+// A closed manifold mesh to its points (the vertices, with area-weighted normals, and the
+// triangles' centroids unless it is a marching-cubes surface).
 PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
   require_closed_manifold(in, run.input, "the input mesh", "remeshing needs a closed surface");
   // A marching-cubes surface of a scan (its vertices on a voxel grid's edges) is fitted
@@ -76,8 +77,8 @@ PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
   // centroids of its triangles lie on the staircase's facets, within the voxel the
   // tolerance allows, and would triple the points. On the sample CT's surface they made
   // 174,245 leaves where the vertices make 97,168, a fit and sampling 2.5 times as long
-  // and a rougher mesh (mean dihedral 12.98 degrees against 12.58). Any other mesh is exact data, its
-  // faces sampled too.
+  // and a rougher mesh (mean dihedral 12.98 degrees against 12.58). Any other mesh is
+  // exact data, its faces sampled too.
   const auto grid = voxel_grid_spacing(in);
   PointCloud cloud = stage(run.obs, "points", [&] { return pts::mesh_points(in, !grid); });
   if (cloud.size() == 0) throw InputError(run.input + ": the mesh has no triangle with an area");

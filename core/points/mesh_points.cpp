@@ -1,5 +1,4 @@
 #include "points/mesh_points.h"
-#include <cstdlib>
 
 namespace mpumesh::pts {
 
@@ -15,17 +14,6 @@ PointCloud mesh_points(const TriangleMesh& mesh, bool centroids) {
     if (!centroids) continue;
     out.positions.push_back((a + mesh.vertices[t[1]] + mesh.vertices[t[2]]) / 3);
     out.normals.push_back(n2 / len);
-  }
-  if (const char* e = getenv("NSMOOTH")) {
-    for (int it = 0; it < atoi(e); ++it) {
-      std::vector<Eigen::Vector3d> nv(vn.size(), Eigen::Vector3d::Zero());
-      for (const auto& t : mesh.triangles) {
-        Eigen::Vector3d s3 = Eigen::Vector3d::Zero();
-        for (uint32_t v : t) if (vn[v].norm() > 0) s3 += vn[v].normalized();
-        for (uint32_t v : t) nv[v] += s3;
-      }
-      vn = nv;
-    }
   }
   for (size_t v = 0; v < vn.size(); ++v) {
     const double len = vn[v].norm();
