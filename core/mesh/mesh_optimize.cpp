@@ -70,6 +70,25 @@ std::vector<uint64_t> sorted_keys(const EdgeFaces& edges) {
   return keys;
 }
 
+// The two faces of the edge `key` and its quad: f1 = abc holds the edge as a -> b, f2 =
+// bad as b -> a. None on a border, or where c and d are one vertex.
+struct EdgeQuad {
+  uint32_t f1, f2, a, b, c, d;
+};
+std::optional<EdgeQuad> edge_quad(const std::vector<Tri>& T, const EdgeFaces& edges, uint64_t key) {
+  const auto [f1, f2] = edges.at(key);
+  if (f2 == UINT32_MAX) return std::nullopt;
+  const Tri& t1 = T[f1];
+  int k = 0;
+  while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
+  const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
+  uint32_t d = UINT32_MAX;
+  for (uint32_t v : T[f2])
+    if (v != a && v != b) d = v;
+  if (d == UINT32_MAX || c == d) return std::nullopt;
+  return EdgeQuad{f1, f2, a, b, c, d};
+}
+
 struct Flip {
   uint32_t f1, f2;
   Tri old1, old2;
@@ -107,18 +126,10 @@ std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces
                                           const OptimizeOptions& opt, const std::vector<char>& frozen) {
   const auto& T = m.triangles;
   const auto& x = m.vertices;
-  const auto [f1, f2] = edges.at(key);
-  if (f2 == UINT32_MAX) return std::nullopt;
-  // f1 holds the edge as a -> b; f2 as b -> a.
-  const Tri& t1 = T[f1];
-  int k = 0;
-  while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
-  const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
-  const Tri& t2 = T[f2];
-  uint32_t d = UINT32_MAX;
-  for (uint32_t v : t2)
-    if (v != a && v != b) d = v;
-  if (d == UINT32_MAX || c == d) return std::nullopt;
+  const auto q = edge_quad(T, edges, key);
+  if (!q) return std::nullopt;
+  const auto [f1, f2, a, b, c, d] = *q;
+  const Tri &t1 = T[f1], &t2 = T[f2];
   if (angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9) return std::nullopt;  // Delaunay already
   if (frozen[a] || frozen[b] || frozen[c] || frozen[d] || edges.count(edge_key(c, d))) return std::nullopt;
   const Tri n1 = {a, d, c}, n2 = {b, c, d};
@@ -129,17 +140,18 @@ std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces
   return DelaunayFlip{f1, f2, n1, n2, edge_key(c, d)};
 }
 
-// The flips of one pass (see the header), applied; returns them.
-std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
-  auto& T = m.triangles;
+// The flips that `propose` finds, one or none for each edge (in parallel), in the edges'
+// order; `dist` gets the distances from the surface of each one's old edge's midpoint and
+// its new edge's (ab and cd of a flip whose new faces are adc and bcd).
+template <class Candidate, class Propose>
+std::vector<Candidate> flip_candidates(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                                       Propose&& propose, std::vector<double>& dist) {
   const auto& x = m.vertices;
-  const EdgeFaces edges = edge_faces(T);
+  const EdgeFaces edges = edge_faces(m.triangles);
   const std::vector<uint64_t> keys = sorted_keys(edges);
-  std::vector<std::optional<DelaunayFlip>> found(keys.size());
-  tbb::parallel_for(size_t(0), keys.size(),
-                    [&](size_t i) { found[i] = delaunay_flip(m, edges, keys[i], opt, frozen); });
-  std::vector<DelaunayFlip> cand;
+  std::vector<std::optional<Candidate>> found(keys.size());
+  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { found[i] = propose(edges, keys[i]); });
+  std::vector<Candidate> cand;
   std::vector<Eigen::Vector3d> mids;
   for (const auto& f : found)
     if (f) {
@@ -147,7 +159,19 @@ std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
       mids.push_back(0.5 * (x[f->n1[1]] + x[f->n1[2]]));  // cd
       cand.push_back(*f);
     }
-  const std::vector<double> dist = surface_distances(s, backend, mids);
+  dist = surface_distances(s, backend, mids);
+  return cand;
+}
+
+// The flips of one pass (see the header), applied; returns them.
+std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
+  auto& T = m.triangles;
+  const auto& x = m.vertices;
+  std::vector<double> dist;
+  const std::vector<DelaunayFlip> cand = flip_candidates<DelaunayFlip>(
+      m, s, backend, [&](const EdgeFaces& edges, uint64_t key) { return delaunay_flip(m, edges, key, opt, frozen); },
+      dist);
   std::vector<char> locked(T.size(), 0);
   std::unordered_set<uint64_t> made;
   std::vector<Flip> done;
@@ -186,16 +210,10 @@ std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces&
                                          const OptimizeOptions& opt, const std::vector<char>& frozen) {
   const auto& T = m.triangles;
   const auto& x = m.vertices;
-  const auto [f1, f2] = edges.at(key);
-  if (f2 == UINT32_MAX) return std::nullopt;
+  const auto q = edge_quad(T, edges, key);
+  if (!q) return std::nullopt;
+  const auto [f1, f2, a, b, c, d] = *q;
   const Tri& t1 = T[f1];
-  int k = 0;
-  while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
-  const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
-  uint32_t d = UINT32_MAX;
-  for (uint32_t v : T[f2])
-    if (v != a && v != b) d = v;
-  if (d == UINT32_MAX || c == d) return std::nullopt;
   const Eigen::Vector3d o1 = area_normal(x, t1), o2 = area_normal(x, T[f2]);
   const double before = normals_angle_deg(o1, o2);
   if (before < opt.smooth_flip_above_deg) return std::nullopt;
@@ -234,20 +252,10 @@ int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
                             const OptimizeOptions& opt, const std::vector<char>& frozen) {
   auto& T = m.triangles;
   const auto& x = m.vertices;
-  const EdgeFaces edges = edge_faces(T);
-  const std::vector<uint64_t> keys = sorted_keys(edges);
-  std::vector<std::optional<SmoothFlip>> found(keys.size());
-  tbb::parallel_for(size_t(0), keys.size(),
-                    [&](size_t i) { found[i] = smoothing_flip(m, edges, keys[i], opt, frozen); });
-  std::vector<SmoothFlip> cand;
-  std::vector<Eigen::Vector3d> mids;
-  for (const auto& f : found)
-    if (f) {
-      mids.push_back(0.5 * (x[f->n1[0]] + x[f->n2[0]]));  // ab
-      mids.push_back(0.5 * (x[f->n1[1]] + x[f->n1[2]]));  // cd
-      cand.push_back(*f);
-    }
-  const std::vector<double> dist = surface_distances(s, backend, mids);
+  std::vector<double> dist;
+  const std::vector<SmoothFlip> cand = flip_candidates<SmoothFlip>(
+      m, s, backend, [&](const EdgeFaces& edges, uint64_t key) { return smoothing_flip(m, edges, key, opt, frozen); },
+      dist);
   // The largest gains first; a face and its neighbours take one flip a pass (the gains
   // were reckoned with the neighbours as they were), and the new edge must lie as near
   // the surface as the old one, as in step 1.
