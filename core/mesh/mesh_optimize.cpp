@@ -71,9 +71,16 @@ std::vector<uint64_t> sorted_keys(const EdgeFaces& edges) {
 }
 
 // The two faces of the edge `key` and its quad: f1 = abc holds the edge as a -> b, f2 =
-// bad as b -> a. None on a border, or where c and d are one vertex.
+// bad as b -> a. None on a border, or where c and d are one vertex. Flipped, ab becomes
+// cd and the faces adc and bcd.
 struct EdgeQuad {
   uint32_t f1, f2, a, b, c, d;
+  Tri flipped1() const { return {a, d, c}; }
+  Tri flipped2() const { return {b, c, d}; }
+  // None of its vertices frozen, and cd no edge yet (the flip keeps the mesh a manifold).
+  bool may_flip(const EdgeFaces& edges, const std::vector<char>& frozen) const {
+    return !frozen[a] && !frozen[b] && !frozen[c] && !frozen[d] && !edges.count(edge_key(c, d));
+  }
 };
 std::optional<EdgeQuad> edge_quad(const std::vector<Tri>& T, const EdgeFaces& edges, uint64_t key) {
   const auto [f1, f2] = edges.at(key);
@@ -94,9 +101,12 @@ struct Flip {
   Tri old1, old2;
 };
 
-// Undoes the flips (whose faces are `changed`) that made a face cross another (exact
-// predicates; the faces across a thin plate or a rim); returns how many.
-int64_t undo_crossing_flips(TriangleMesh& m, const std::vector<Flip>& done, std::vector<uint32_t> changed) {
+// Undoes the flips `done` that made a face cross another (exact predicates; the faces
+// across a thin plate or a rim), and then those whose faces cross one undone; returns how
+// many.
+int64_t undo_crossing_flips(TriangleMesh& m, const std::vector<Flip>& done) {
+  std::vector<uint32_t> changed;  // the faces to check: the flips', then the undone ones'
+  for (const Flip& fl : done) changed.insert(changed.end(), {fl.f1, fl.f2});
   int64_t undone = 0;
   for (int round = 0; round < 3 && !changed.empty(); ++round) {
     std::unordered_set<uint32_t> crossing;
@@ -120,19 +130,17 @@ struct DelaunayFlip {
   uint64_t new_edge;
 };
 
-// The flip of the edge `key`, if it is not locally Delaunay and its triangles are nearly
-// coplanar (see step 1 in the header).
-std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces& edges, uint64_t key,
+// The flip of the quad q's edge, if it is not locally Delaunay and its triangles are
+// nearly coplanar (see step 1 in the header).
+std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces& edges, const EdgeQuad& q,
                                           const OptimizeOptions& opt, const std::vector<char>& frozen) {
   const auto& T = m.triangles;
   const auto& x = m.vertices;
-  const auto q = edge_quad(T, edges, key);
-  if (!q) return std::nullopt;
-  const auto [f1, f2, a, b, c, d] = *q;
+  const auto [f1, f2, a, b, c, d] = q;
   const Tri &t1 = T[f1], &t2 = T[f2];
   if (angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9) return std::nullopt;  // Delaunay already
-  if (frozen[a] || frozen[b] || frozen[c] || frozen[d] || edges.count(edge_key(c, d))) return std::nullopt;
-  const Tri n1 = {a, d, c}, n2 = {b, c, d};
+  if (!q.may_flip(edges, frozen)) return std::nullopt;
+  const Tri n1 = q.flipped1(), n2 = q.flipped2();
   const Eigen::Vector3d o = (area_normal(x, t1).normalized() + area_normal(x, t2).normalized());
   const Eigen::Vector3d m1 = area_normal(x, n1).normalized(), m2 = area_normal(x, n2).normalized();
   if (!(m1.dot(m2) >= std::cos(opt.max_flip_dihedral_deg * M_PI / 180)) || !(m1.dot(o) > 0) || !(m2.dot(o) > 0))
@@ -140,8 +148,8 @@ std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces
   return DelaunayFlip{f1, f2, n1, n2, edge_key(c, d)};
 }
 
-// The flips that `propose` finds, one or none for each edge (in parallel), in the edges'
-// order; `dist` gets the distances from the surface of each one's old edge's midpoint and
+// The flips that `propose` finds, one or none for each edge with a quad (edge_quad; in
+// parallel), in the edges' order; `dist` gets the distances from the surface of each one's old edge's midpoint and
 // its new edge's (ab and cd of a flip whose new faces are adc and bcd).
 template <class Candidate, class Propose>
 std::vector<Candidate> flip_candidates(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
@@ -150,7 +158,9 @@ std::vector<Candidate> flip_candidates(const TriangleMesh& m, const mpu::MpuSurf
   const EdgeFaces edges = edge_faces(m.triangles);
   const std::vector<uint64_t> keys = sorted_keys(edges);
   std::vector<std::optional<Candidate>> found(keys.size());
-  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) { found[i] = propose(edges, keys[i]); });
+  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) {
+    if (const auto q = edge_quad(m.triangles, edges, keys[i])) found[i] = propose(edges, *q);
+  });
   std::vector<Candidate> cand;
   std::vector<Eigen::Vector3d> mids;
   for (const auto& f : found)
@@ -163,26 +173,41 @@ std::vector<Candidate> flip_candidates(const TriangleMesh& m, const mpu::MpuSurf
   return cand;
 }
 
+// Whether candidate i's new edge cd lies no farther from the surface than its old edge
+// ab, or than flip_offset of its length (`dist` from flip_candidates).
+template <class Candidate>
+bool new_edge_near_surface(const std::vector<Eigen::Vector3d>& x, const Candidate& f, const std::vector<double>& dist,
+                           size_t i, const OptimizeOptions& opt) {
+  const double len = (x[f.n1[1]] - x[f.n1[2]]).norm();  // d - c
+  return dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len);
+}
+
+// Makes a flip; returns what undoes it.
+Flip make_flip(std::vector<Tri>& T, uint32_t f1, uint32_t f2, const Tri& n1, const Tri& n2) {
+  const Flip undo{f1, f2, T[f1], T[f2]};
+  T[f1] = n1;
+  T[f2] = n2;
+  return undo;
+}
+
 // The flips of one pass (see the header), applied; returns them.
 std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
                             const OptimizeOptions& opt, const std::vector<char>& frozen) {
   auto& T = m.triangles;
   const auto& x = m.vertices;
   std::vector<double> dist;
-  const std::vector<DelaunayFlip> cand = flip_candidates<DelaunayFlip>(
-      m, s, backend, [&](const EdgeFaces& edges, uint64_t key) { return delaunay_flip(m, edges, key, opt, frozen); },
-      dist);
+  const auto propose = [&](const EdgeFaces& edges, const EdgeQuad& q) {
+    return delaunay_flip(m, edges, q, opt, frozen);
+  };
+  const std::vector<DelaunayFlip> cand = flip_candidates<DelaunayFlip>(m, s, backend, propose, dist);
   std::vector<char> locked(T.size(), 0);
   std::unordered_set<uint64_t> made;
   std::vector<Flip> done;
   for (size_t i = 0; i < cand.size(); ++i) {
     const DelaunayFlip& c = cand[i];
     if (locked[c.f1] || locked[c.f2] || made.count(c.new_edge)) continue;
-    const double len = (x[c.n1[2]] - x[c.n1[1]]).norm();  // c - d
-    if (!(dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len))) continue;
-    done.push_back({c.f1, c.f2, T[c.f1], T[c.f2]});
-    T[c.f1] = c.n1;
-    T[c.f2] = c.n2;
+    if (!new_edge_near_surface(x, c, dist, i, opt)) continue;
+    done.push_back(make_flip(T, c.f1, c.f2, c.n1, c.n2));
     locked[c.f1] = locked[c.f2] = 1;
     made.insert(c.new_edge);
   }
@@ -204,21 +229,19 @@ struct SmoothFlip {
   std::array<uint32_t, 6> near;
 };
 
-// The flip of the edge `key`, if it makes the surface smoother at little cost to the
+// The flip of the quad q's edge, if it makes the surface smoother at little cost to the
 // shapes (see step 5 in the header).
-std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces& edges, uint64_t key,
+std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces& edges, const EdgeQuad& q,
                                          const OptimizeOptions& opt, const std::vector<char>& frozen) {
   const auto& T = m.triangles;
   const auto& x = m.vertices;
-  const auto q = edge_quad(T, edges, key);
-  if (!q) return std::nullopt;
-  const auto [f1, f2, a, b, c, d] = *q;
+  const auto [f1, f2, a, b, c, d] = q;
   const Tri& t1 = T[f1];
   const Eigen::Vector3d o1 = area_normal(x, t1), o2 = area_normal(x, T[f2]);
   const double before = normals_angle_deg(o1, o2);
   if (before < opt.smooth_flip_above_deg) return std::nullopt;
-  if (frozen[a] || frozen[b] || frozen[c] || frozen[d] || edges.count(edge_key(c, d))) return std::nullopt;
-  const Tri n1 = {a, d, c}, n2 = {b, c, d};
+  if (!q.may_flip(edges, frozen)) return std::nullopt;
+  const Tri n1 = q.flipped1(), n2 = q.flipped2();
   const Eigen::Vector3d m1 = area_normal(x, n1), m2 = area_normal(x, n2);
   if (!(m1.dot(o1 + o2) > 0) || !(m2.dot(o1 + o2) > 0)) return std::nullopt;
   if (std::min(triangle_min_angle_deg(x[a], x[d], x[c]), triangle_min_angle_deg(x[b], x[c], x[d])) < opt.min_keep_deg)
@@ -253,9 +276,10 @@ int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   auto& T = m.triangles;
   const auto& x = m.vertices;
   std::vector<double> dist;
-  const std::vector<SmoothFlip> cand = flip_candidates<SmoothFlip>(
-      m, s, backend, [&](const EdgeFaces& edges, uint64_t key) { return smoothing_flip(m, edges, key, opt, frozen); },
-      dist);
+  const auto propose = [&](const EdgeFaces& edges, const EdgeQuad& q) {
+    return smoothing_flip(m, edges, q, opt, frozen);
+  };
+  const std::vector<SmoothFlip> cand = flip_candidates<SmoothFlip>(m, s, backend, propose, dist);
   // The largest gains first; a face and its neighbours take one flip a pass (the gains
   // were reckoned with the neighbours as they were), and the new edge must lie as near
   // the surface as the old one, as in step 1.
@@ -265,21 +289,16 @@ int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   std::vector<char> locked(T.size(), 0);
   std::unordered_set<uint64_t> made;
   std::vector<Flip> done;
-  std::vector<uint32_t> changed;
   for (size_t i : order) {
     const SmoothFlip& f = cand[i];
     if (made.count(f.new_edge) || std::any_of(f.near.begin(), f.near.end(), [&](uint32_t g) { return locked[g]; }))
       continue;
-    const double len = (x[f.n1[1]] - x[f.n1[2]]).norm();
-    if (!(dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len))) continue;
-    done.push_back({f.f1, f.f2, T[f.f1], T[f.f2]});
-    T[f.f1] = f.n1;
-    T[f.f2] = f.n2;
+    if (!new_edge_near_surface(x, f, dist, i, opt)) continue;
+    done.push_back(make_flip(T, f.f1, f.f2, f.n1, f.n2));
     for (uint32_t g : f.near) locked[g] = 1;
     made.insert(f.new_edge);
-    changed.insert(changed.end(), {f.f1, f.f2});
   }
-  return int64_t(done.size()) - undo_crossing_flips(m, done, changed);
+  return int64_t(done.size()) - undo_crossing_flips(m, done);
 }
 
 // The triangles not marked `gone`, in their order.
@@ -637,11 +656,16 @@ int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& b
   return moved;
 }
 
+// The rounds' counts set to zero (before the rounds, and when none of them is kept).
+void clear_counts(OptimizeStats& st) {
+  st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0, st.smooth_flips = 0;
+}
+
 // The rounds, with the vertices `frozen` left as they are.
 void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen,
                      OptimizeStats& st) {
-  st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0, st.smooth_flips = 0;
+  clear_counts(st);
   for (int round = 0; round < opt.rounds; ++round) {
     st.flips += int64_t(flip_pass(mesh, s, backend, opt, frozen).size());
     if (round >= opt.rounds - opt.smooth_flip_rounds)
@@ -695,7 +719,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
     st.retries = attempt + 1;
     if (attempt == 2) {
       mesh = input;
-      st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0, st.smooth_flips = 0;
+      clear_counts(st);
       break;
     }
     for (const auto& [a, b] : pairs)
