@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "common/error.h"
+#include "common/memory.h"
 #include "io/atomic_file.h"
 #include "vk/vk_check.h"
 
@@ -22,6 +23,7 @@ extern "C" void on_signal(int sig) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  mpumesh::keep_freed_memory();
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   CLI::App app{"mpumesh: smooth, closed, adaptive triangle meshes from CT/MR volumes"};

@@ -28,6 +28,13 @@ uint64_t peak_rss_bytes();
 // 0.98 GB against 0.52 GB without).
 uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles, bool volume_mesh = false);
 
+// Keeps freed memory in the process for the next allocation (glibc: blocks up to 32 MiB
+// from the heap, not fresh mappings, and no trimming): a run allocates and frees its
+// stages' buffers over and over, and each fresh page costs a fault. On the sample CT at
+// 45,000 particles this cut the page faults from 90,000 to 68,000 and the run by 0.27 s
+// (5%), at 1% more peak memory. Called once by the programs that run the pipeline.
+void keep_freed_memory();
+
 // Throws InputError naming `what` when the estimate exceeds the memory available.
 void check_memory(const std::string& what, uint64_t need_bytes);
 

@@ -1,8 +1,12 @@
 // Every quality figure on shapes whose answers are known.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
 
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+
+#include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
 #include "mesh/thin_triangles.h"
 #include "test_support.h"
@@ -109,6 +113,50 @@ TEST(Quality, SelfIntersectionsAreCounted) {
   const Quality q = measure_quality(both);
   EXPECT_GT(q.self_intersections, 0);
   EXPECT_EQ(q.topo.components, 2);
+}
+
+// The pairs found through the box search are those of testing every pair: two
+// overlapping spheres of 1,280 triangles each (the box search splits sets above 1,000),
+// one nudged so that some triangles share a vertex with a crossing one, against every
+// pair tested with CGAL's exact triangle test.
+TEST(Quality, IntersectingPairsAreThoseOfTestingEveryPair) {
+  const TriangleMesh a = test::icosphere(2.0, 3);
+  TriangleMesh both = a;
+  const uint32_t n = uint32_t(a.vertices.size());
+  for (auto v : a.vertices) both.vertices.push_back(v + Eigen::Vector3d(1.1, 0.3, 0.2));
+  for (auto t : a.triangles) both.triangles.push_back({t[0] + n, t[1] + n, t[2] + n});
+  // A fold: one vertex pushed through the sphere's opposite side.
+  both.vertices[5] = -1.2 * both.vertices[5];
+  using K = CGAL::Exact_predicates_inexact_constructions_kernel;
+  auto tri = [&](uint32_t f) {
+    const auto& t = both.triangles[f];
+    auto p = [&](uint32_t v) { return K::Point_3(both.vertices[v].x(), both.vertices[v].y(), both.vertices[v].z()); };
+    return K::Triangle_3(p(t[0]), p(t[1]), p(t[2]));
+  };
+  std::vector<std::pair<uint32_t, uint32_t>> expected;
+  for (uint32_t f = 0; f < both.triangles.size(); ++f)
+    for (uint32_t g = f + 1; g < both.triangles.size(); ++g) {
+      bool share = false;
+      for (uint32_t u : both.triangles[f])
+        for (uint32_t w : both.triangles[g]) share = share || u == w;
+      if (!share && CGAL::do_intersect(tri(f), tri(g))) expected.emplace_back(f, g);
+    }
+  ASSERT_GT(expected.size(), 100u);
+  EXPECT_EQ(intersecting_triangles(both, nullptr, false), expected);
+  // Listing some triangles: the pairs that hold one of them, listed few or most.
+  for (uint32_t stride : {7u, 1u}) {
+    std::vector<uint32_t> among;
+    for (uint32_t f = 0; f < both.triangles.size(); f += stride) among.push_back(f);
+    std::vector<char> listed(both.triangles.size(), 0);
+    for (uint32_t f : among) listed[f] = 1;
+    std::vector<std::pair<uint32_t, uint32_t>> want;
+    for (const auto& p : expected)
+      if (listed[p.first] || listed[p.second]) want.push_back(p);
+    EXPECT_EQ(intersecting_triangles(both, &among, false), want) << stride;
+  }
+  // With adjacent pairs too: the pairs that share no vertex are among them.
+  const auto all = intersecting_triangles(both);
+  EXPECT_TRUE(std::includes(all.begin(), all.end(), expected.begin(), expected.end()));
 }
 
 TEST(Quality, TorusGenusOne) {

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "cgal_remesh_peer.h"
+#include "common/memory.h"
 #include "cpu/cpu_backend.h"
 #include "io/mesh_io.h"
 #include "io/volume_io.h"
@@ -42,6 +43,7 @@ struct TempDir {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();  // as mpumesh does; the peers run in this process too
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [cpu|gpu|auto]\n", argv[0]);
     return 2;

@@ -21,6 +21,7 @@
 
 #include "cgal_mesh3_peer.h"
 #include "mesh_rows.h"
+#include "common/memory.h"
 #include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "mc/marching_cubes.h"
@@ -56,6 +57,7 @@ class StageTimes : public pipeline::Observer {
 }  // namespace
 
 int main(int argc, char** argv) {
+  keep_freed_memory();  // as mpumesh does; the peers run in this process too
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto]\n", argv[0]);
     return 2;
