@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <thread>
@@ -30,10 +31,18 @@ uint64_t available_memory_bytes() {
   return pages > 0 && size > 0 ? uint64_t(pages) * uint64_t(size) : UINT64_MAX;
 }
 
-void keep_freed_memory() {
-#if defined(__GLIBC__)
+void tune_memory(char** argv) {
+#if defined(__GLIBC__) && defined(__linux__)
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (!tunables || !std::strstr(tunables, "glibc.malloc.hugetlb")) {
+    const std::string with = (tunables && *tunables ? std::string(tunables) + ":" : std::string()) +
+                             "glibc.malloc.hugetlb=1";
+    if (setenv("GLIBC_TUNABLES", with.c_str(), 1) == 0) execv("/proc/self/exe", argv);  // returns only on failure
+  }
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
   mallopt(M_TRIM_THRESHOLD, INT32_MAX);
+#else
+  (void)argv;
 #endif
 }
 

@@ -28,12 +28,18 @@ uint64_t peak_rss_bytes();
 // 0.98 GB against 0.52 GB without).
 uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles, bool volume_mesh = false);
 
-// Keeps freed memory in the process for the next allocation (glibc: blocks up to 32 MiB
-// from the heap, not fresh mappings, and no trimming): a run allocates and frees its
-// stages' buffers over and over, and each fresh page costs a fault. On the sample CT at
-// 45,000 particles this cut the page faults from 90,000 to 68,000 and the run by 0.27 s
-// (5%), at 1% more peak memory. Called once by the programs that run the pipeline.
-void keep_freed_memory();
+// Memory for a whole run, set once at the start of a program that runs the pipeline
+// (mpumesh, the whole-run benchmarks; `argv` is its main's). A run allocates and frees
+// its stages' large buffers over and over, and each fresh 4 KiB page costs a fault: on
+// the sample CT at 45,000 particles, 90,000 faults. So, with glibc:
+// - freed memory stays in the process for the next allocation (blocks up to 32 MiB come
+//   from the heap, not fresh mappings, and the heap is not trimmed): 78,000 faults;
+// - malloc asks the kernel for transparent huge pages (glibc's tunable
+//   glibc.malloc.hugetlb=1, read only when a program starts: so the program starts itself
+//   again, once, with it added to GLIBC_TUNABLES, unless that already sets it): 17,000
+//   faults, and the run 5.09 s -> 4.85 s (means of four runs each, in turn).
+// Where the kernel gives no huge pages, or the restart fails, the run goes on as it is.
+void tune_memory(char** argv);
 
 // Throws InputError naming `what` when the estimate exceeds the memory available.
 void check_memory(const std::string& what, uint64_t need_bytes);

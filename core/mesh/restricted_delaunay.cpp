@@ -9,6 +9,7 @@
 #include <CGAL/Triangulation_vertex_base_with_info_3.h>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
@@ -210,7 +211,7 @@ std::vector<std::vector<uint32_t>> non_manifold_groups(const std::vector<RFacet>
   edges.reserve(3 * facets.size());
   for (uint32_t f = 0; f < facets.size(); ++f)
     for (int e = 0; e < 3; ++e) edges.emplace_back(edge_key(facets[f].v[size_t(e)], facets[f].v[size_t((e + 1) % 3)]), f);
-  std::sort(edges.begin(), edges.end());
+  tbb::parallel_sort(edges.begin(), edges.end());  // (edge, facet) pairs are distinct: one order
   for (size_t a = 0, b; a < edges.size(); a = b) {
     for (b = a + 1; b < edges.size() && edges[b].first == edges[a].first;) ++b;
     const uint64_t key = edges[a].first;
@@ -224,7 +225,7 @@ std::vector<std::vector<uint32_t>> non_manifold_groups(const std::vector<RFacet>
   star.reserve(3 * facets.size());
   for (uint32_t f = 0; f < facets.size(); ++f)
     for (uint32_t v : facets[f].v) star.emplace_back(v, f);
-  std::sort(star.begin(), star.end());
+  tbb::parallel_sort(star.begin(), star.end());
   std::vector<std::pair<uint32_t, uint32_t>> spokes;  // (other vertex, local facet)
   std::vector<uint32_t> parent;
   for (size_t a = 0, b; a < star.size(); a = b) {
