@@ -2,11 +2,11 @@
 
 #include <tbb/parallel_for.h>
 #include <tbb/concurrent_unordered_map.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 
@@ -47,24 +47,38 @@ void validate(const FitOptions& o) {
 namespace {
 
 // The cloud without exact duplicates (the first of each position kept): a repeated point
-// would make the median spacing, hence eps and the smallest radius, zero.
+// would make the median spacing, hence eps and the smallest radius, zero. Found with an
+// open-addressing table of the kept points, keyed by their coordinates' bits (-0 as +0,
+// since they compare equal), in place of a sort of the points by position: on the sample
+// CT the fit's setup (which also builds the k-d tree) went from 0.074 to 0.060 s.
 PointCloud without_duplicates(const PointCloud& in, int64_t* removed) {
-  std::vector<size_t> order(in.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  auto less = [&](size_t a, size_t b) {
-    const auto &p = in.positions[a], &q = in.positions[b];
-    if (p.x() != q.x()) return p.x() < q.x();
-    if (p.y() != q.y()) return p.y() < q.y();
-    if (p.z() != q.z()) return p.z() < q.z();
-    return a < b;
+  auto bits = [](double v) {
+    uint64_t u;
+    v += 0.0;  // -0 becomes +0
+    std::memcpy(&u, &v, sizeof u);
+    return u;
   };
-  tbb::parallel_sort(order.begin(), order.end(), less);  // a total order: the same result
-  std::vector<char> keep(in.size(), 1);
-  for (size_t k = 1; k < order.size(); ++k)
-    if (in.positions[order[k]] == in.positions[order[k - 1]]) keep[order[k]] = 0;
+  auto hash = [&](const Eigen::Vector3d& p) {
+    uint64_t h = bits(p.x()) * 0x9E3779B97F4A7C15ull;
+    h = (h ^ (h >> 29) ^ bits(p.y())) * 0xBF58476D1CE4E5B9ull;
+    h = (h ^ (h >> 32) ^ bits(p.z())) * 0x94D049BB133111EBull;
+    return h ^ (h >> 31);
+  };
+  size_t slots = 16;
+  while (slots < 2 * in.size()) slots *= 2;
+  std::vector<uint32_t> table(slots, UINT32_MAX);  // a kept point's index, or empty
   PointCloud out;
-  for (size_t i = 0; i < in.size(); ++i)
-    if (keep[i]) out.positions.push_back(in.positions[i]), out.normals.push_back(in.normals[i]);
+  out.positions.reserve(in.size());
+  out.normals.reserve(in.size());
+  for (size_t i = 0; i < in.size(); ++i) {
+    const Eigen::Vector3d& p = in.positions[i];
+    size_t at = hash(p) & (slots - 1);
+    while (table[at] != UINT32_MAX && in.positions[table[at]] != p) at = (at + 1) & (slots - 1);
+    if (table[at] != UINT32_MAX) continue;  // a repeat of a kept point
+    table[at] = uint32_t(i);
+    out.positions.push_back(p);
+    out.normals.push_back(in.normals[i]);
+  }
   *removed = int64_t(in.size() - out.size());
   return out;
 }
