@@ -145,7 +145,8 @@ std::vector<std::pair<uint32_t, uint32_t>> crossing_pairs(const TriangleMesh& a,
   CGAL::box_intersection_d(
       ba.begin(), ba.end(), bb.begin(), bb.end(),
       [&](const Box& x, const Box& y) {
-        if (CGAL::do_intersect(ta[x.handle()], tb[y.handle()])) pairs.emplace_back(uint32_t(x.handle()), uint32_t(y.handle()));
+        if (CGAL::do_intersect(ta[x.handle()], tb[y.handle()]))
+          pairs.emplace_back(uint32_t(x.handle()), uint32_t(y.handle()));
       },
       std::ptrdiff_t(1000));  // the cutoff intersecting_triangles uses
   std::sort(pairs.begin(), pairs.end());
