@@ -82,7 +82,7 @@ class EdgeFaces {
   bool count(uint64_t key) const { return find(key) != UINT32_MAX; }
   const std::pair<uint32_t, uint32_t>& at(uint64_t key) const {
     const uint32_t i = find(key);
-    MPUMESH_ASSERT(i != UINT32_MAX, "edge_faces: no such edge");
+    MPUMESH_ASSERT(i != UINT32_MAX, "EdgeFaces: no such edge");
     return faces_[i];
   }
 
