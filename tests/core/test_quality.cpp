@@ -115,10 +115,10 @@ TEST(Quality, SelfIntersectionsAreCounted) {
   EXPECT_EQ(q.topo.components, 2);
 }
 
-// The pairs found through the box search are those of testing every pair: two
-// overlapping spheres of 1,280 triangles each (the box search splits sets above 1,000),
-// one nudged so that some triangles share a vertex with a crossing one, against every
-// pair tested with CGAL's exact triangle test.
+// The pairs found through the box search are those of testing every pair with CGAL's
+// exact triangle test: two overlapping spheres of 1,280 triangles each (the box search
+// splits sets above 1,000), one vertex of the first pushed through its far side (a fold,
+// whose triangles also cross triangles they share a vertex with).
 TEST(Quality, IntersectingPairsAreThoseOfTestingEveryPair) {
   const TriangleMesh a = test::icosphere(2.0, 3);
   TriangleMesh both = a;
