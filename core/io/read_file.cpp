@@ -25,7 +25,6 @@ std::string read_file(const std::string& path) {
   std::string bytes(ec ? 0 : size_t(size), '\0');
   in.read(bytes.data(), std::streamsize(bytes.size()));
   bytes.resize(size_t(in.gcount()));
-  if (in.bad()) throw InputError(path + ": read error");
   if (in) {
     std::ostringstream rest;
     rest << in.rdbuf();

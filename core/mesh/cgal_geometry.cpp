@@ -21,6 +21,10 @@ using Triangle = K::Triangle_3;
 
 Point to_cgal(const Eigen::Vector3d& p) { return Point(p.x(), p.y(), p.z()); }
 
+// CGAL's box search scans a set of boxes below this size instead of splitting it (its
+// default is 10): see intersecting_triangles.
+constexpr std::ptrdiff_t kBoxCutoff = 1000;
+
 // Whether triangles fa and fb of the mesh (its vertices as `pts`) cross: exact
 // predicates chosen by how many vertices they share, as PMP does internally; without
 // `adjacent`, triangles that share a vertex never count.
@@ -91,7 +95,6 @@ std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const Triangle
     const size_t f = ba.handle(), g = bb.handle();
     if (f != g) candidates.emplace_back(uint32_t(std::min(f, g)), uint32_t(std::max(f, g)));
   };
-  constexpr std::ptrdiff_t kCutoff = 1000;
   // Listing most triangles, the whole mesh against itself is the faster search (the
   // listed ones against all of them runs the box search both ways); its pairs are then
   // kept where they hold a listed triangle.
@@ -101,10 +104,10 @@ std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const Triangle
     for (uint32_t f : *among) listed[f] = 1;
   }
   if (!among || !listed.empty()) {
-    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), keep, kCutoff);
+    CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), keep, kBoxCutoff);
   } else {
     std::vector<Box> some = make_boxes([&](size_t k) { return size_t((*among)[k]); }, among->size());
-    CGAL::box_intersection_d(some.begin(), some.end(), boxes.begin(), boxes.end(), keep, kCutoff);
+    CGAL::box_intersection_d(some.begin(), some.end(), boxes.begin(), boxes.end(), keep, kBoxCutoff);
   }
   if (!listed.empty())
     candidates.erase(std::remove_if(candidates.begin(), candidates.end(),
@@ -148,7 +151,7 @@ std::vector<std::pair<uint32_t, uint32_t>> crossing_pairs(const TriangleMesh& a,
         if (CGAL::do_intersect(ta[x.handle()], tb[y.handle()]))
           pairs.emplace_back(uint32_t(x.handle()), uint32_t(y.handle()));
       },
-      std::ptrdiff_t(1000));  // the cutoff intersecting_triangles uses
+      kBoxCutoff);
   std::sort(pairs.begin(), pairs.end());
   return pairs;
 }

@@ -27,10 +27,14 @@ Eigen::Vector3d area_normal(const std::vector<Eigen::Vector3d>& x, const Tri& t)
   return (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
 }
 
+// The angle between two vectors of any lengths (radians).
+double angle_between(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
+
 // The angle at a of the triangle abc (radians).
 double angle_at(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d u = b - a, v = c - a;
-  return std::atan2(u.cross(v).norm(), u.dot(v));
+  return angle_between(b - a, c - a);
 }
 
 std::vector<std::vector<uint32_t>> vertex_faces(const TriangleMesh& m) {
@@ -180,8 +184,9 @@ std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces
 }
 
 // The flips that `propose` finds, one or none for each edge with a quad (edge_quad; in
-// parallel), in the edges' order; `dist` gets the distances from the surface of each one's old edge's midpoint and
-// its new edge's (ab and cd of a flip whose new faces are adc and bcd).
+// parallel), in the edges' order; `dist` gets the distances from the surface of each
+// one's old edge's midpoint and its new edge's (ab and cd of a flip whose new faces are
+// adc and bcd).
 template <class Candidate, class Propose>
 std::vector<Candidate> flip_candidates(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
                                        Propose&& propose, std::vector<double>& dist) {
@@ -247,7 +252,7 @@ std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
 
 // The angle between two triangles' normals (any lengths), in degrees.
 double normals_angle_deg(const Eigen::Vector3d& n1, const Eigen::Vector3d& n2) {
-  return std::atan2(n1.cross(n2).norm(), n1.dot(n2)) * 180 / M_PI;
+  return angle_between(n1, n2) * 180 / M_PI;
 }
 
 // A smoothing flip (step 5): the edge ab of the faces f1 = abc and f2 = bad becomes cd.
