@@ -1,6 +1,7 @@
 #include "particles/particle_system.h"
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <chrono>
@@ -321,6 +322,7 @@ struct Sampler {
   // The targets (and where the thickness sets them) as fields over the surface, for the
   // particles (sizing_field.h).
   std::unique_ptr<SizingField> target_field, thickness_field, gauss_field;
+  std::vector<size_t> fine_keep;  // the candidates in the seeds' Poisson disk (make_pool)
   std::vector<Eigen::Vector3d> fine;
   std::vector<uint32_t> fine_pool;  // nearest pool point
   std::vector<double> radius;
@@ -361,12 +363,23 @@ void Sampler::make_pool() {
   r_pool = std::max(gap, extent / 400);
   bend_floor = opt.voxel_size > 0 ? kMinBendVoxels * opt.voxel_size : gap;
   if (opt.spacing > 0) r_pool = std::min(r_pool, std::max(opt.spacing * kDiskPerSpacing, extent / 400));
-  // Particles farther than 4 r_pool from every candidate left the data for a spurious
-  // sheet of f (particles/data_support.h) and are removed.
-  support = std::make_unique<DataSupport>(candidates, 4 * r_pool);
+  // Three independent serial steps over the candidates, run side by side (on the sample
+  // CT 0.07-0.09 s, against 0.15 s in turn): the pool's Poisson disk; the finer one the
+  // seeds are drawn from (see seed); the data support, which removes particles farther
+  // than 4 r_pool from every candidate, off the data on a spurious sheet of f
+  // (particles/data_support.h).
+  std::vector<size_t> keep;
+  tbb::parallel_invoke(
+      [&] {
+        keep = poisson_disk(candidates, std::vector<double>(candidates.size(), r_pool),
+                            hashed_order(candidates.size(), opt.seed));
+      },
+      [&] {
+        fine_keep = poisson_disk(candidates, std::vector<double>(candidates.size(), 0.5 * r_pool),
+                                 hashed_order(candidates.size(), opt.seed + 2));
+      },
+      [&] { support = std::make_unique<DataSupport>(candidates, 4 * r_pool); });
   {
-    std::vector<size_t> keep =
-        poisson_disk(candidates, std::vector<double>(candidates.size(), r_pool), hashed_order(candidates.size(), opt.seed));
     {  // in space order, for the cache (see order_spatially)
       std::vector<Eigen::Vector3d> at(keep.size());
       for (size_t k = 0; k < keep.size(); ++k) at[k] = candidates[keep[k]];
@@ -515,8 +528,7 @@ void Sampler::seed() {
   gauss_field = std::make_unique<SizingField>(pool.x, pool.normal, gauss);
   thickness_field = std::make_unique<SizingField>(pool.x, pool.normal, tg.by_thickness);
   {
-    const std::vector<size_t> keep =
-        poisson_disk(candidates, std::vector<double>(candidates.size(), 0.5 * r_pool), hashed_order(candidates.size(), opt.seed + 2));
+    const std::vector<size_t>& keep = fine_keep;
     fine.resize(keep.size());
     fine_pool.resize(keep.size());
     PointsAdaptor pool_adaptor{&pool.x};
