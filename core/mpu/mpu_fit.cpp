@@ -1,7 +1,6 @@
 #include "mpu/mpu_fit.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/concurrent_unordered_map.h>
 
 #include <algorithm>
 #include <chrono>
@@ -14,6 +13,7 @@
 #include "common/lap_timer.h"
 #include "common/kd_tree.h"
 #include "mpu/ball_search.h"
+#include "mpu/lattice_cache.h"
 #include "mpu/local_fit.h"
 
 namespace mpumesh::mpu {
@@ -168,13 +168,14 @@ class Fitter {
   // (at the position computed from its integer index, so that it is the same whichever
   // cell asks first). On the sample CT this cut the fit's nearest-neighbour search time
   // by a third and the fit by 6%.
-  tbb::concurrent_unordered_map<uint64_t, double> corner_values;  // NaN: signs disagree
   // A cell away from the data (see `away` in process) also gets its 12 edge midpoints and
-  // 6 face centres: 27 points on the half-cell lattice, cached the same way. Its quadric
-  // is extrapolated from points outside the cell, and the 9 points alone leave it free to
-  // cross zero between them: on the sample CT the 27 cut the original MPU mesh's p99
-  // distance to marching cubes (its zero set away from the bone) from 11.5 to 0.67 mm.
-  tbb::concurrent_unordered_map<uint64_t, double> half_values;
+  // 6 face centres: 27 points on the half-cell lattice, cached the same way (their keys
+  // tagged with kHalfLattice). Its quadric is extrapolated from points outside the cell,
+  // and the 9 points alone leave it free to cross zero between them: on the sample CT
+  // the 27 cut the original MPU mesh's p99 distance to marching cubes (its zero set away
+  // from the bone) from 11.5 to 0.67 mm.
+  LatticeCache lattice_values;  // NaN: signs disagree
+  static constexpr uint64_t kHalfLattice = uint64_t(1) << 62;
 
  public:
   void make_search(double extent) {
@@ -219,13 +220,7 @@ void Fitter::lattice_points(const Cell& c, std::vector<AuxPoint>& aux) {
         const Eigen::Vector3d q =
             s.box_min + 0.5 * c.size * Eigen::Vector3d(double(h[0]), double(h[1]), double(h[2]));
         const uint64_t key = uint64_t(h[0]) + side * (uint64_t(h[1]) + side * uint64_t(h[2]));
-        double v;
-        if (const auto it = half_values.find(key); it != half_values.end()) {
-          v = it->second;
-        } else {
-          v = aux_value(q);
-          half_values.insert({key, v});
-        }
+        const double v = lattice_values.get(key | kHalfLattice, [&] { return aux_value(q); });
         if (!std::isnan(v)) aux.push_back({q, v});
       }
 }
@@ -240,13 +235,7 @@ std::vector<AuxPoint> Fitter::aux_points(const Cell& c, bool lattice) {
       const std::array<int64_t, 3> corner = {c.ijk[0] + (k & 1), c.ijk[1] + ((k >> 1) & 1), c.ijk[2] + ((k >> 2) & 1)};
       q = s.box_min + c.size * Eigen::Vector3d(double(corner[0]), double(corner[1]), double(corner[2]));
       const uint64_t key = uint64_t(corner[0]) + side * (uint64_t(corner[1]) + side * uint64_t(corner[2]));
-      const auto it = corner_values.find(key);
-      if (it != corner_values.end()) {
-        v = it->second;
-      } else {
-        v = aux_value(q);
-        corner_values.insert({key, v});
-      }
+      v = lattice_values.get(key, [&] { return aux_value(q); });
     } else {
       v = aux_value(q);
     }
@@ -417,8 +406,8 @@ void Fitter::fit_levels(FitStats& st, LapTimer& timer) {
   std::vector<Cell> level = {make_cell(0, {0, 0, 0})};
   while (!level.empty()) {
     std::vector<Outcome> out(level.size());
-    corner_values.clear();
-    half_values.clear();
+    // About four keys a cell: corners are shared, and most cells ask for no half points.
+    lattice_values.reset(4 * level.size());
     tbb::parallel_for(size_t(0), level.size(), [&](size_t i) { out[i] = process(level[i]); });
     std::vector<Cell> next;
     std::vector<size_t> kept;  // this level's leaves, in cell order

@@ -1,7 +1,11 @@
 // The .mpu file: round trip, refusal of corrupt and truncated files with a message naming
-// the file, and a fit whose bytes do not depend on the thread count.
+// the file, and a fit whose bytes do not depend on the thread count (nor its lattice
+// cache's races).
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+
+#include <atomic>
 
 #include <zlib.h>
 
@@ -9,6 +13,7 @@
 
 #include "common/error.h"
 #include "mpu/mpu_eval_ref.h"
+#include "mpu/lattice_cache.h"
 #include "mpu/mpu_fit.h"
 #include "mpu/mpu_io.h"
 #include "test_support.h"
@@ -139,4 +144,33 @@ TEST(MpuFit, SameBytesWhateverTheThreadCount) {
   }
   EXPECT_GT(one.size(), 1000u);
   EXPECT_TRUE(one == many) << "fits differ between 1 and 4 threads";
+}
+
+// Threads asking for the same keys at once get each key's value, computed about once a
+// key; past its size the table still answers (computing again), and a reset empties it.
+TEST(MpuFit, LatticeCacheAnswersEveryKeyUnderContention) {
+  auto value = [](uint64_t k) { return k % 7 == 0 ? std::nan("") : std::sqrt(double(k)) - 40.0; };
+  auto same = [](double a, double b) { return std::isnan(a) ? std::isnan(b) : a == b; };
+  mpu::LatticeCache cache;
+  for (const size_t keys : {size_t(3000), size_t(200000)}) {  // within the size; far past it
+    cache.reset(3000);
+    std::atomic<int64_t> computed{0}, wrong{0};
+    tbb::parallel_for(size_t(0), 4 * keys, [&](size_t i) {
+      const uint64_t k = (i * 2654435761u) % keys;  // every key four times, interleaved
+      const double v = cache.get(k, [&] {
+        ++computed;
+        return value(k);
+      });
+      if (!same(v, value(k))) ++wrong;
+    });
+    EXPECT_EQ(wrong.load(), 0);
+    EXPECT_GE(computed.load(), int64_t(keys));
+    if (keys == 3000) EXPECT_LT(computed.load(), int64_t(keys) + 100) << "the cache did not keep the values";
+    else EXPECT_GT(computed.load(), int64_t(keys) + 100000) << "a full table cannot have cached them all";
+  }
+  cache.reset(3000);
+  int64_t after_reset = 0;
+  for (uint64_t k = 0; k < 3000; ++k) cache.get(k, [&] { return double(++after_reset); });
+  EXPECT_EQ(after_reset, 3000);
+  EXPECT_EQ(cache.get(5, [] { return -1.0; }), 6.0);  // the value stored after the reset
 }
