@@ -23,6 +23,20 @@ struct PointsAdaptor {
 using KdTree =
     nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, PointsAdaptor>, PointsAdaptor, 3, uint32_t>;
 
+// A k-d tree (leaves of up to 16 points) with its adaptor, built over `pts`, which must
+// stay where they are while it is used. The same points give the same tree, so searches
+// (ties included) answer the same whichever index of them is asked.
+struct PointIndex {
+  PointsAdaptor adaptor;
+  KdTree tree;
+  explicit PointIndex(const std::vector<Eigen::Vector3d>& pts)
+      : adaptor{&pts}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
+    tree.buildIndex();
+  }
+  PointIndex(const PointIndex&) = delete;
+  PointIndex& operator=(const PointIndex&) = delete;
+};
+
 // The median over up to 20,000 evenly picked points of the distance to their k-th
 // nearest neighbour (k <= 15); 1 when there are too few points.
 inline double median_spacing(const std::vector<Eigen::Vector3d>& pts, const KdTree& tree, size_t k = 1) {

@@ -12,6 +12,7 @@
 
 #include <string>
 
+#include "common/kd_tree.h"
 #include "geometry/point_cloud.h"
 
 namespace mpumesh::mpu {
@@ -23,7 +24,8 @@ struct Tolerance {
   std::string source;  // the rule and the figure that decided it, for the reports
 };
 
-// `pixel`: the in-plane voxel size (Volume::in_plane_spacing).
-Tolerance volume_tolerance(const PointCloud& cloud, double pixel);
+// `pixel`: the in-plane voxel size (Volume::in_plane_spacing); `index`: a PointIndex's
+// tree over the points, if the caller has one.
+Tolerance volume_tolerance(const PointCloud& cloud, double pixel, const KdTree* index = nullptr);
 
 }  // namespace mpumesh::mpu

@@ -103,9 +103,13 @@ void check_not_flat(const PointCloud& c) {
 // and the auxiliary points' values cached per octree level.
 class Fitter {
  public:
-  Fitter(const PointCloud& cloud, const FitOptions& opt, MpuSurface& s)
-      : cloud(cloud), opt(opt), s(s), adaptor{&cloud.positions}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
-    tree.buildIndex();
+  // `shared`: a tree over points equal to the cloud's, or null to build one.
+  Fitter(const PointCloud& cloud, const FitOptions& opt, MpuSurface& s, const KdTree* shared)
+      : cloud(cloud),
+        opt(opt),
+        s(s),
+        own_index(shared ? nullptr : std::make_unique<PointIndex>(cloud.positions)),
+        tree(shared ? *shared : own_index->tree) {
     eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
     // The median distance to the 12th nearest point (about the largest sampling gap), when
     // the smallest radius or the slope length needs it.
@@ -155,8 +159,8 @@ class Fitter {
   const PointCloud& cloud;
   const FitOptions& opt;
   MpuSurface& s;
-  PointsAdaptor adaptor;
-  KdTree tree;
+  std::unique_ptr<PointIndex> own_index;
+  const KdTree& tree;
   // Balls, growth and the auxiliary points' six nearest on a grid of cells about the
   // smallest ball (ball_search.h); the k-d tree keeps the large balls of the coarse levels
   // and the six nearest where the grid finds ties or too few points. (On the sample CT the
@@ -463,7 +467,7 @@ void count_kinds(const MpuSurface& s, FitStats& st) {
 
 }  // namespace
 
-MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* stats) {
+MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* stats, const KdTree* index) {
   validate(opt);
   const auto t0 = std::chrono::steady_clock::now();
   int64_t duplicates = 0;
@@ -473,7 +477,9 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
                      std::to_string(opt.nmin));
   check_not_flat(cloud);
   MpuSurface s;
-  Fitter fitter(cloud, opt, s);
+  // Without duplicates the distinct points are the input's, in its order: its tree
+  // serves.
+  Fitter fitter(cloud, opt, s, duplicates == 0 ? index : nullptr);
   place_box(cloud, opt, s);
   fitter.make_search(std::max((s.data_max - s.data_min).maxCoeff(), 1e-6));
   FitStats st;

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/kd_tree.h"
 #include "mpu/mpu_surface.h"
 #include "geometry/point_cloud.h"
 
@@ -58,7 +59,10 @@ struct FitStats {
   std::vector<double> seconds_by_depth;
 };
 
-MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* stats = nullptr);
+// `index`: a PointIndex's tree over cloud.positions, when the caller has one; searched
+// when no point is a duplicate (else the fit builds its own over the distinct points).
+MpuSurface fit_mpu(const PointCloud& cloud, const FitOptions& opt, FitStats* stats = nullptr,
+                   const KdTree* index = nullptr);
 
 const char* local_fit_name(LocalFit f);
 

@@ -300,11 +300,12 @@ namespace {
 // One sampling's state, built up by its steps in order: the pool and its area, the
 // weights and the flat spacing, the seeds, the iterations, the final checks.
 struct Sampler {
-  Sampler(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates, const SampleOptions& opt,
-          ComputeBackend& backend, SampleStats& stats)
-      : s(s), candidates(candidates), opt(opt), backend(backend), stats(stats) {}
+  Sampler(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates, const KdTree* candidate_index,
+          const SampleOptions& opt, ComputeBackend& backend, SampleStats& stats)
+      : s(s), candidates(candidates), candidate_index(candidate_index), opt(opt), backend(backend), stats(stats) {}
   const mpu::MpuSurface& s;
   const std::vector<Eigen::Vector3d>& candidates;
+  const KdTree* candidate_index;  // or null
   SampleOptions opt;
   ComputeBackend& backend;
   SampleStats& stats;
@@ -321,6 +322,7 @@ struct Sampler {
   Targets tg;
   // The targets (and where the thickness sets them) as fields over the surface, for the
   // particles (sizing_field.h).
+  std::unique_ptr<PointIndex> pool_index;  // over pool.x, which stays in place from here on
   std::unique_ptr<SizingField> target_field, thickness_field, gauss_field;
   std::vector<size_t> fine_keep;  // the candidates in the seeds' Poisson disk (make_pool)
   std::vector<Eigen::Vector3d> fine;
@@ -356,9 +358,9 @@ void Sampler::make_pool() {
   extent = (s.data_max - s.data_min).maxCoeff();
   // 1. A pool: a Poisson-disk subset of the candidates at about their largest sampling
   //    gap (so that it covers the surface without holes between CT slices), on f = 0.
-  PointsAdaptor adaptor{&candidates};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  std::unique_ptr<PointIndex> own;
+  if (!candidate_index) own = std::make_unique<PointIndex>(candidates);
+  const KdTree& tree = candidate_index ? *candidate_index : own->tree;
   gap = candidates.size() > 13 ? median_spacing(candidates, tree, 12) : extent / 50;
   r_pool = std::max(gap, extent / 400);
   bend_floor = opt.voxel_size > 0 ? kMinBendVoxels * opt.voxel_size : gap;
@@ -524,16 +526,15 @@ void Sampler::seed() {
     field_count = n;
     if (by_default && opt.voxel_size > 0) stats.asked = std::llround(n);
   }
-  target_field = std::make_unique<SizingField>(pool.x, pool.normal, tg.spacing);
-  gauss_field = std::make_unique<SizingField>(pool.x, pool.normal, gauss);
-  thickness_field = std::make_unique<SizingField>(pool.x, pool.normal, tg.by_thickness);
+  pool_index = std::make_unique<PointIndex>(pool.x);  // the three fields' and the seeds' searches
+  target_field = std::make_unique<SizingField>(pool.x, pool.normal, tg.spacing, &pool_index->tree);
+  gauss_field = std::make_unique<SizingField>(pool.x, pool.normal, gauss, &pool_index->tree);
+  thickness_field = std::make_unique<SizingField>(pool.x, pool.normal, tg.by_thickness, &pool_index->tree);
   {
     const std::vector<size_t>& keep = fine_keep;
     fine.resize(keep.size());
     fine_pool.resize(keep.size());
-    PointsAdaptor pool_adaptor{&pool.x};
-    KdTree pool_tree(3, pool_adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-    pool_tree.buildIndex();
+    const KdTree& pool_tree = pool_index->tree;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, keep.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t k = r.begin(); k != r.end(); ++k) {
         fine[k] = candidates[keep[k]];
@@ -734,12 +735,13 @@ void Sampler::finish() {
 }  // namespace
 
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
-                             const SampleOptions& opt_in, ComputeBackend& backend, SampleStats* stats_out) {
+                             const SampleOptions& opt_in, ComputeBackend& backend, SampleStats* stats_out,
+                             const KdTree* candidate_index) {
   validate(opt_in);
   SampleStats st_local;
   SampleStats& stats = stats_out ? *stats_out : st_local;
   stats = SampleStats{};
-  Sampler sampler(s, candidates, opt_in, backend, stats);
+  Sampler sampler(s, candidates, candidate_index, opt_in, backend, stats);
   SampleOptions& opt = sampler.opt;
   sampler.by_default = opt.particles == 0 && opt.spacing == 0;
   if (sampler.by_default) opt.particles = kDefaultParticles;

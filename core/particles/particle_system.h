@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "common/kd_tree.h"
 #include "mpu/mpu_surface.h"
 #include "particles/particle_step_ref.h"
 
@@ -127,9 +128,11 @@ struct SampleStats {
 StepParams batch_params(const StepParams& step, const ParticleState& st);
 
 // The iterations run on `backend` (ComputeBackend::particle_iterations), in batches of
-// batch_params.
+// batch_params. `candidate_index`: a PointIndex's tree over the candidates, when the
+// caller has one (else one is built).
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
-                             const SampleOptions& opt, ComputeBackend& backend, SampleStats* stats = nullptr);
+                             const SampleOptions& opt, ComputeBackend& backend, SampleStats* stats = nullptr,
+                             const KdTree* candidate_index = nullptr);
 
 // Candidate seeds when no input points are at hand: the centres of the leaves that held
 // points.

@@ -36,27 +36,20 @@ void average_over_patches(const std::vector<Eigen::Vector3d>& x, const std::vect
   kappa.swap(k);
 }
 
-struct SizingField::Tree {
-  PointsAdaptor adaptor;
-  KdTree tree;
-  explicit Tree(const std::vector<Eigen::Vector3d>* x)
-      : adaptor{x}, tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16)) {
-    tree.buildIndex();
-  }
-};
-
 SizingField::SizingField(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& normal,
-                         std::vector<double> value)
-    : x_(x), normal_(normal), value_(std::move(value)), tree_(std::make_unique<Tree>(&x)) {}
-
-SizingField::~SizingField() = default;
+                         std::vector<double> value, const KdTree* index)
+    : x_(x),
+      normal_(normal),
+      value_(std::move(value)),
+      own_index_(index ? nullptr : std::make_unique<PointIndex>(x)),
+      tree_(index ? *index : own_index_->tree) {}
 
 double SizingField::at(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
   uint32_t idx[kNeighbours];
   double d2[kNeighbours];
   nanoflann::KNNResultSet<double, uint32_t> rs(kNeighbours);
   rs.init(idx, d2);
-  tree_->tree.findNeighbors(rs, p.data(), nanoflann::SearchParams());
+  tree_.findNeighbors(rs, p.data(), nanoflann::SearchParams());
   double w = 0, sum = 0, w_any = 0, sum_any = 0;
   for (size_t k = 0; k < rs.size(); ++k) {
     const double wk = 1.0 / (d2[k] + 1e-12);

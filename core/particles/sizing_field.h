@@ -24,6 +24,8 @@
 #include <memory>
 #include <vector>
 
+#include "common/kd_tree.h"
+
 namespace mpumesh::particles {
 
 // Each point's curvature averaged over its patch (above): `gauss` and `kappa` (K and the
@@ -39,17 +41,18 @@ void average_over_patches(const std::vector<Eigen::Vector3d>& x, const std::vect
 class SizingField {
  public:
   static constexpr int kNeighbours = 8;
+  // `index`: a PointIndex's tree over x, which fields over the same points share (else
+  // the field builds its own); it must outlive the field.
   SizingField(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& normal,
-              std::vector<double> value);
-  ~SizingField();
+              std::vector<double> value, const KdTree* index = nullptr);
   double at(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
 
  private:
-  struct Tree;
   const std::vector<Eigen::Vector3d>& x_;
   const std::vector<Eigen::Vector3d>& normal_;
   std::vector<double> value_;
-  std::unique_ptr<Tree> tree_;
+  std::unique_ptr<PointIndex> own_index_;
+  const KdTree& tree_;
 };
 
 }  // namespace mpumesh::particles

@@ -2,18 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "common/kd_tree.h"
 
 namespace mpumesh::pts {
 
-double estimate_noise(const PointCloud& cloud) {
+double estimate_noise(const PointCloud& cloud, const KdTree* index) {
   constexpr size_t kNear = 32, kPicked = 4000;
   const auto& pts = cloud.positions;
   if (pts.size() < kNear + 1) return 0;
-  const PointsAdaptor adaptor{&pts};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  std::unique_ptr<PointIndex> own;
+  if (!index) own = std::make_unique<PointIndex>(pts);
+  const KdTree& tree = index ? *index : own->tree;
   const size_t step = std::max<size_t>(1, pts.size() / kPicked);
   std::vector<double> sigma((pts.size() + step - 1) / step, -1.0);
   tbb::parallel_for(size_t(0), sigma.size(), [&](size_t j) {

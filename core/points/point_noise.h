@@ -7,10 +7,13 @@
 // the surface: the noise a fit must not follow.
 #pragma once
 
+#include "common/kd_tree.h"
 #include "geometry/point_cloud.h"
 
 namespace mpumesh::pts {
 
-double estimate_noise(const PointCloud& cloud);
+// `index`: a PointIndex's tree over cloud.positions, when the caller has one (else one is
+// built).
+double estimate_noise(const PointCloud& cloud, const KdTree* index = nullptr);
 
 }  // namespace mpumesh::pts
