@@ -8,11 +8,13 @@
 #include <cmath>
 #include <numeric>
 #include <optional>
+#include <span>
 #include <unordered_set>
 
 #include "common/error.h"
 #include "geometry/drop_unused.h"
 #include "geometry/tet_mesh.h"
+#include "geometry/vertex_faces.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
 #include "mpu/mpu_eval_ref.h"
@@ -37,11 +39,8 @@ double angle_at(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen:
   return angle_between(b - a, c - a);
 }
 
-std::vector<std::vector<uint32_t>> vertex_faces(const TriangleMesh& m) {
-  std::vector<std::vector<uint32_t>> vf(m.vertices.size());
-  for (uint32_t f = 0; f < m.triangles.size(); ++f)
-    for (uint32_t v : m.triangles[f]) vf[v].push_back(f);
-  return vf;
+VertexFaces vertex_faces(const TriangleMesh& m) {
+  return mpumesh::vertex_faces(m.vertices.size(), m.triangles.size(), [&](size_t f) { return m.triangles[f]; });
 }
 
 // The distance of each point from the surface: |f| (on the backend), which is about the
@@ -367,7 +366,7 @@ bool landed(const particles::ParticleState& st, size_t i) {
 
 // The smallest angle (degrees) of the triangles `faces` with the vertices at x.
 double smallest_angle(const std::vector<Eigen::Vector3d>& x, const std::vector<Tri>& T,
-                      const std::vector<uint32_t>& faces) {
+                      std::span<const uint32_t> faces) {
   double m = 180;
   for (uint32_t f : faces) m = std::min(m, triangle_min_angle_deg(x[T[f][0]], x[T[f][1]], x[T[f][2]]));
   return m;
@@ -377,7 +376,7 @@ double smallest_angle(const std::vector<Eigen::Vector3d>& x, const std::vector<T
 // more than max_turn_deg, and the smallest angle around v does not fall, or stays above
 // min_keep_deg.
 bool move_keeps(const std::vector<Eigen::Vector3d>& was, const std::vector<Eigen::Vector3d>& now,
-                const std::vector<Tri>& T, const std::vector<uint32_t>& faces, const OptimizeOptions& opt) {
+                const std::vector<Tri>& T, std::span<const uint32_t> faces, const OptimizeOptions& opt) {
   const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
   for (uint32_t f : faces)
     if (!turned_within(area_normal(was, T[f]), area_normal(now, T[f]), cos_turn)) return false;
@@ -387,7 +386,7 @@ bool move_keeps(const std::vector<Eigen::Vector3d>& was, const std::vector<Eigen
 
 // One relaxation pass (see the header); returns the vertices that moved.
 std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                                 const std::vector<double>& spacing, const std::vector<std::vector<uint32_t>>& vf,
+                                 const std::vector<double>& spacing, const VertexFaces& vf,
                                  const OptimizeOptions& opt, const std::vector<char>& frozen) {
   const auto& T = m.triangles;
   const std::vector<Eigen::Vector3d> was = m.vertices;
@@ -542,7 +541,7 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
         na.size() + nb.size() < 7)
       continue;
     if (std::any_of(ring.begin(), ring.end(), [&](uint32_t v) { return locked[v] || frozen[v]; })) continue;
-    std::vector<uint32_t> faces = vf[a], keep;
+    std::vector<uint32_t> faces(vf[a].begin(), vf[a].end()), keep;
     faces.insert(faces.end(), vf[b].begin(), vf[b].end());
     std::sort(faces.begin(), faces.end());
     faces.erase(std::unique(faces.begin(), faces.end()), faces.end());
@@ -620,7 +619,7 @@ constexpr double kSteps[] = {0.05, 0.15, 0.3};
 constexpr size_t kPlaces = 1 + kDirections * std::size(kSteps);
 particles::ParticleState polish_places(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
                                        const std::vector<double>& spacing, const OptimizeOptions& opt,
-                                       const std::vector<std::vector<uint32_t>>& vf, const std::vector<uint32_t>& verts) {
+                                       const VertexFaces& vf, const std::vector<uint32_t>& verts) {
   const auto& T = m.triangles;
   const auto& x = m.vertices;
   particles::ParticleState st;

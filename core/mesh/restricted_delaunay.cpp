@@ -23,6 +23,7 @@
 #include "common/kd_tree.h"
 #include "common/lap_timer.h"
 #include "compute/compute_backend.h"
+#include "geometry/vertex_faces.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/thin_triangles.h"
 #include "mpu/mpu_eval_ref.h"
@@ -355,25 +356,6 @@ std::optional<Eigen::Vector3d> opposite_sheet(const mpu::MpuSurface& s, const Ei
     }
   }
   return best;
-}
-
-// The faces of each vertex, in face order, as compressed rows: the faces of vertex v are
-// faces[first[v]] .. faces[first[v + 1] - 1]. verts_of(f) gives face f's three vertices.
-struct VertexFaces {
-  std::vector<uint32_t> first, faces;
-};
-template <class VertsOf>
-VertexFaces vertex_faces(size_t vertices, size_t faces, VertsOf verts_of) {
-  VertexFaces r;
-  r.first.assign(vertices + 1, 0);
-  r.faces.resize(3 * faces);
-  for (size_t f = 0; f < faces; ++f)
-    for (uint32_t v : verts_of(f)) ++r.first[v + 1];
-  for (size_t v = 0; v < vertices; ++v) r.first[v + 1] += r.first[v];
-  std::vector<uint32_t> fill(r.first.begin(), r.first.end() - 1);
-  for (size_t f = 0; f < faces; ++f)
-    for (uint32_t v : verts_of(f)) r.faces[fill[v]++] = uint32_t(f);
-  return r;
 }
 
 // The points that lost sheets need (opposite_sheet), from the restricted facets of the
