@@ -1,11 +1,15 @@
 #include "mesh/topology.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <functional>
 #include <numeric>
 
 #include "common/error.h"
+#include "geometry/vertex_faces.h"
 
 namespace mpumesh {
 namespace {
@@ -64,7 +68,8 @@ Topology analyze_topology(const TriangleMesh& mesh) {
     }
   }
   t.vertices = std::count(used.begin(), used.end(), 1);
-  std::sort(he.begin(), he.end(), [](const Half& x, const Half& y) { return x.key < y.key; });
+  // (Only counted, so the order of equal keys does not matter.)
+  tbb::parallel_sort(he.begin(), he.end(), [](const Half& x, const Half& y) { return x.key < y.key; });
   for (size_t i = 0; i < he.size();) {
     size_t j = i;
     while (j < he.size() && he[j].key == he[i].key) ++j;
@@ -76,25 +81,31 @@ Topology analyze_topology(const TriangleMesh& mesh) {
     i = j;
   }
   // Fans: around each vertex, triangles are linked when they share an edge at the vertex.
-  std::vector<std::vector<uint32_t>> vf(mesh.vertices.size());
-  for (size_t f = 0; f < mesh.triangles.size(); ++f)
-    for (uint32_t v : mesh.triangles[f]) vf[v].push_back(uint32_t(f));
-  for (size_t v = 0; v < vf.size(); ++v) {
-    const auto& fs = vf[v];
-    if (fs.size() < 2) continue;
-    UnionFind uf(fs.size());
-    // Triangles around v sharing another vertex share an edge through v.
-    std::vector<std::pair<uint32_t, int32_t>> other;
-    for (size_t k = 0; k < fs.size(); ++k)
-      for (uint32_t w : mesh.triangles[fs[k]])
-        if (w != v) other.push_back({w, int32_t(k)});
-    std::sort(other.begin(), other.end());
-    for (size_t k = 1; k < other.size(); ++k)
-      if (other[k].first == other[k - 1].first) uf.unite(other[k].second, other[k - 1].second);
-    int fans = 0;
-    for (size_t k = 0; k < fs.size(); ++k) fans += uf.find(int32_t(k)) == int32_t(k);
-    if (fans > 1) ++t.nonmanifold_vertices;
-  }
+  const VertexFaces vf =
+      vertex_faces(mesh.vertices.size(), mesh.triangles.size(), [&](size_t f) { return mesh.triangles[f]; });
+  t.nonmanifold_vertices = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, mesh.vertices.size(), 4096), int64_t(0),
+      [&](const tbb::blocked_range<size_t>& r, int64_t count) {
+        std::vector<std::pair<uint32_t, int32_t>> other;
+        for (size_t v = r.begin(); v != r.end(); ++v) {
+          const auto fs = vf[v];
+          if (fs.size() < 2) continue;
+          UnionFind uf(fs.size());
+          // Triangles around v sharing another vertex share an edge through v.
+          other.clear();
+          for (size_t k = 0; k < fs.size(); ++k)
+            for (uint32_t w : mesh.triangles[fs[k]])
+              if (w != v) other.push_back({w, int32_t(k)});
+          std::sort(other.begin(), other.end());
+          for (size_t k = 1; k < other.size(); ++k)
+            if (other[k].first == other[k - 1].first) uf.unite(other[k].second, other[k - 1].second);
+          int fans = 0;
+          for (size_t k = 0; k < fs.size(); ++k) fans += uf.find(int32_t(k)) == int32_t(k);
+          count += fans > 1;
+        }
+        return count;
+      },
+      std::plus<int64_t>());
   triangle_components(mesh, &t.components);
   t.euler = t.vertices - t.edges + t.triangles;
   t.closed = t.border_edges == 0 && t.triangles > 0;
