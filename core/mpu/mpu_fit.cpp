@@ -8,6 +8,8 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <new>
+#include <type_traits>
 
 #include "common/error.h"
 #include "common/lap_timer.h"
@@ -408,11 +410,19 @@ Fitter::Outcome Fitter::process(const Cell& c) {
 
 void Fitter::fit_levels(FitStats& st, LapTimer& timer) {
   std::vector<Cell> level = {make_cell(0, {0, 0, 0})};
+  // Each level's outcomes are built in place by the task that fits the cell: value-
+  // initialised first, their pages (18 MB at the sample CT's deepest level) were first
+  // touched, and zeroed by the kernel, on one core.
+  static_assert(std::is_trivially_destructible_v<Outcome>);
+  struct Release {
+    void operator()(Outcome* p) const { ::operator delete(p, std::align_val_t(alignof(Outcome))); }
+  };
   while (!level.empty()) {
-    std::vector<Outcome> out(level.size());
+    const std::unique_ptr<Outcome[], Release> out(static_cast<Outcome*>(
+        ::operator new(level.size() * sizeof(Outcome), std::align_val_t(alignof(Outcome)))));
     // About four keys a cell: corners are shared, and most cells ask for no half points.
     lattice_values.reset(4 * level.size());
-    tbb::parallel_for(size_t(0), level.size(), [&](size_t i) { out[i] = process(level[i]); });
+    tbb::parallel_for(size_t(0), level.size(), [&](size_t i) { new (&out[i]) Outcome(process(level[i])); });
     std::vector<Cell> next;
     std::vector<size_t> kept;  // this level's leaves, in cell order
     for (size_t i = 0; i < level.size(); ++i) {
