@@ -25,6 +25,7 @@
 #include "compute/compute_backend.h"
 #include "geometry/vertex_faces.h"
 #include "mesh/cgal_geometry.h"
+#include "mesh/circumcentre.h"
 #include "mesh/thin_triangles.h"
 #include "mpu/mpu_eval_ref.h"
 
@@ -32,8 +33,8 @@ namespace mpumesh {
 namespace {
 
 // The circumcentre of a nearly flat tetrahedron is computed exactly and rounded
-// (Robust_circumcenter_traits_3), as CGAL's surface mesher does: the Voronoi vertices
-// decide which facets are restricted.
+// (Robust_circumcenter_traits_3, through mesh/circumcentre.h), as CGAL's surface mesher
+// does: the Voronoi vertices decide which facets are restricted.
 using K = CGAL::Robust_circumcenter_traits_3<CGAL::Epick>;
 struct CellData {
   double f = NAN;  // f at the circumcentre (NaN: not evaluated yet)
@@ -59,8 +60,7 @@ bool by_id(const Dt::Vertex_handle& a, const Dt::Vertex_handle& b) { return a->i
 Eigen::Vector3d circumcentre(const Dt& dt, Cell c) {
   std::array<Dt::Vertex_handle, 4> v = {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
   std::sort(v.begin(), v.end(), by_id);
-  return vec(dt.geom_traits().construct_circumcenter_3_object()(v[0]->point(), v[1]->point(), v[2]->point(),
-                                                                v[3]->point()));
+  return robust_circumcentre(vec(v[0]->point()), vec(v[1]->point()), vec(v[2]->point()), vec(v[3]->point()));
 }
 
 bool inside(const Dt& dt, Cell c) { return !dt.is_infinite(c) && c->info().f < 0; }
