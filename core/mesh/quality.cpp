@@ -52,12 +52,25 @@ DistanceStats stats_of(const DistanceSamples& s) {
 
 }  // namespace
 
+// The smallest angle lies opposite the shortest side: only the angles opposite sides
+// within a relative 1e-6 (in squared length) of the shortest are computed. A side longer
+// than that faces an angle larger by a relative 5e-7 or more (law of sines), far beyond
+// atan2's rounding, so the minimum is the one of all three, bit for bit, for a third of
+// the atan2 calls (the mesh optimisation spent 16% of its time in them).
 double triangle_min_angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   auto angle = [](const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
     return std::atan2(u.cross(v).norm(), u.dot(v));
   };
-  const double A = angle(b - a, c - a), B = angle(a - b, c - b), C = angle(a - c, b - c);
-  return std::min({A, B, C}) * kDeg;
+  const double la = (b - c).squaredNorm(), lb = (a - c).squaredNorm(), lc = (a - b).squaredNorm();
+  const double shortest = std::min({la, lb, lc});
+  if (!std::isfinite(la + lb + lc))
+    return std::min({angle(b - a, c - a), angle(a - b, c - b), angle(a - c, b - c)}) * kDeg;
+  const double near = shortest * (1 + 1e-6);
+  double m = INFINITY;
+  if (la <= near) m = std::min(m, angle(b - a, c - a));
+  if (lb <= near) m = std::min(m, angle(a - b, c - b));
+  if (lc <= near) m = std::min(m, angle(a - c, b - c));
+  return m * kDeg;
 }
 
 double triangle_radius_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {

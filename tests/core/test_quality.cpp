@@ -2,7 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <numbers>
+#include <random>
 
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 
@@ -157,6 +159,36 @@ TEST(Quality, IntersectingPairsAreThoseOfTestingEveryPair) {
   // With adjacent pairs too: the pairs that share no vertex are among them.
   const auto all = intersecting_triangles(both);
   EXPECT_TRUE(std::includes(all.begin(), all.end(), expected.begin(), expected.end()));
+}
+
+// The smallest angle from the sides nearest the shortest only is the minimum of all
+// three angles, bit for bit: on random triangles, on nearly isosceles and equilateral
+// ones (sides equal to 1e-7 to 1e-16), and on degenerate ones.
+TEST(Quality, MinAngleIsTheSmallestOfAllThreeBitForBit) {
+  auto all_three = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    auto angle = [](const Eigen::Vector3d& u, const Eigen::Vector3d& v) { return std::atan2(u.cross(v).norm(), u.dot(v)); };
+    return std::min({angle(b - a, c - a), angle(a - b, c - b), angle(a - c, b - c)}) * (180.0 / std::numbers::pi);
+  };
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-10, 10);
+  auto point = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  int checked = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const Eigen::Vector3d a = point(), b = point();
+    Eigen::Vector3d c = point();
+    if (i % 2) {  // c on (or within 1e-7 to 1e-16 of) the perpendicular bisector of ab, or equilateral
+      const Eigen::Vector3d mid = 0.5 * (a + b), n = (b - a).cross(c - a).normalized(), side = n.cross(b - a);
+      const double h = i % 4 == 1 ? std::sqrt(3.0) / 2 : 0.1 + std::abs(u(rng));
+      c = mid + h * side + std::pow(10.0, -7 - i % 10) * (b - a);
+    }
+    EXPECT_EQ(triangle_min_angle_deg(a, b, c), all_three(a, b, c)) << i;
+    ++checked;
+  }
+  const Eigen::Vector3d p(1, 2, 3), q(4, 5, 6);
+  EXPECT_EQ(triangle_min_angle_deg(p, p, q), all_three(p, p, q));  // two corners at one point
+  EXPECT_EQ(triangle_min_angle_deg(p, q, 0.5 * (p + q)), all_three(p, q, 0.5 * (p + q)));  // collinear
+  EXPECT_EQ(triangle_min_angle_deg(p, p, p), all_three(p, p, p));
+  EXPECT_EQ(checked, 20000);
 }
 
 TEST(Quality, TorusGenusOne) {
