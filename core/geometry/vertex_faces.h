@@ -1,6 +1,6 @@
 // The faces of each vertex of a triangle set, in face order, as compressed rows: the
-// faces of vertex v are faces[first[v]] .. faces[first[v + 1] - 1]. Two passes over the
-// faces and two allocations, where a vector per vertex made one allocation (or more) a
+// faces of vertex v are faces[first[v]] .. faces[first[v + 1] - 1]: two passes over the
+// faces and two allocations, against one or more allocations a vertex for a vector per
 // vertex.
 #pragma once
 

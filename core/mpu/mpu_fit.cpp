@@ -410,9 +410,10 @@ Fitter::Outcome Fitter::process(const Cell& c) {
 
 void Fitter::fit_levels(FitStats& st, LapTimer& timer) {
   std::vector<Cell> level = {make_cell(0, {0, 0, 0})};
-  // Each level's outcomes are built in place by the task that fits the cell: value-
-  // initialised first, their pages (18 MB at the sample CT's deepest level) were first
-  // touched, and zeroed by the kernel, on one core.
+  // Each level's outcomes are built in place by the task that fits the cell, which so
+  // first touches their pages (18 MB at the sample CT's deepest level; the kernel zeroes
+  // each on first touch): value-initialised beforehand, they would all be touched on one
+  // core.
   static_assert(std::is_trivially_destructible_v<Outcome>);
   struct Release {
     void operator()(Outcome* p) const { ::operator delete(p, std::align_val_t(alignof(Outcome))); }
