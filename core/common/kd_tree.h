@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 namespace mpumesh {
@@ -36,6 +37,14 @@ struct PointIndex {
   PointIndex(const PointIndex&) = delete;
   PointIndex& operator=(const PointIndex&) = delete;
 };
+
+// `given` (a caller's tree over pts), or else a tree over pts built into `own`.
+inline const KdTree& given_or_built(const KdTree* given, const std::vector<Eigen::Vector3d>& pts,
+                                    std::unique_ptr<PointIndex>& own) {
+  if (given) return *given;
+  own = std::make_unique<PointIndex>(pts);
+  return own->tree;
+}
 
 // The median over up to 20,000 evenly picked points of the distance to their k-th
 // nearest neighbour (k <= 15); 1 when there are too few points.

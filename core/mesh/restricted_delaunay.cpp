@@ -708,9 +708,8 @@ void Triangulation::remove_spurious() {
     constexpr double kOffSample = 4;
     std::vector<char> off(repair.size(), 0);
     if (!repair.empty()) {
-      PointsAdaptor adaptor{&points};
-      KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-      tree.buildIndex();
+      const PointIndex index(points);
+      const KdTree& tree = index.tree;
       const double reach = kOffSample * median_spacing(points, tree, 1);
       tbb::parallel_for(tbb::blocked_range<size_t>(0, repair.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t k = r.begin(); k != r.end(); ++k) {

@@ -110,8 +110,7 @@ class Fitter {
       : cloud(cloud),
         opt(opt),
         s(s),
-        own_index(shared ? nullptr : std::make_unique<PointIndex>(cloud.positions)),
-        tree(shared ? *shared : own_index->tree) {
+        tree(given_or_built(shared, cloud.positions, own_index)) {
     eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
     // The median distance to the 12th nearest point (about the largest sampling gap), when
     // the smallest radius or the slope length needs it.

@@ -322,7 +322,9 @@ struct Sampler {
   Targets tg;
   // The targets (and where the thickness sets them) as fields over the surface, for the
   // particles (sizing_field.h).
-  std::unique_ptr<PointIndex> pool_index;  // over pool.x, which stays in place from here on
+  // Over pool.x, which stays as make_pool leaves it: for the area, the three fields and
+  // the seeds' nearest pool points.
+  std::unique_ptr<PointIndex> pool_index;
   std::unique_ptr<SizingField> target_field, thickness_field, gauss_field;
   std::vector<size_t> fine_keep;  // the candidates in the seeds' Poisson disk (make_pool)
   std::vector<Eigen::Vector3d> fine;
@@ -359,8 +361,7 @@ void Sampler::make_pool() {
   // 1. A pool: a Poisson-disk subset of the candidates at about their largest sampling
   //    gap (so that it covers the surface without holes between CT slices), on f = 0.
   std::unique_ptr<PointIndex> own;
-  if (!candidate_index) own = std::make_unique<PointIndex>(candidates);
-  const KdTree& tree = candidate_index ? *candidate_index : own->tree;
+  const KdTree& tree = given_or_built(candidate_index, candidates, own);
   gap = candidates.size() > 13 ? median_spacing(candidates, tree, 12) : extent / 50;
   r_pool = std::max(gap, extent / 400);
   bend_floor = opt.voxel_size > 0 ? kMinBendVoxels * opt.voxel_size : gap;
@@ -407,6 +408,7 @@ void Sampler::make_pool() {
   }
   if (pool.size() < 4) throw InputError("sample: the candidate points do not lie on the surface (fewer than 4 reached f = 0)");
   stats.pool = int64_t(pool.size());
+  pool_index = std::make_unique<PointIndex>(pool.x);
 }
 
 void Sampler::measure_area() {
@@ -414,7 +416,7 @@ void Sampler::measure_area() {
   // to 6 neighbours), divided by 1.067: on the fitted sphere and ellipsoid Σ 0.866 d6²
   // came out 6.6% and 6.7% above the true area. (With that, 5,025 vs 5,027 mm² and
   // 4,892 vs 4,896 mm².)
-  const std::vector<double> pool_d6 = local_spacing(pool.x);
+  const std::vector<double> pool_d6 = local_spacing(pool.x, 1, &pool_index->tree);
   cell_area.resize(pool.size());
   for (size_t i = 0; i < pool.size(); ++i) {
     cell_area[i] = kHexArea / 1.067 * pool_d6[i] * pool_d6[i];
@@ -526,7 +528,6 @@ void Sampler::seed() {
     field_count = n;
     if (by_default && opt.voxel_size > 0) stats.asked = std::llround(n);
   }
-  pool_index = std::make_unique<PointIndex>(pool.x);  // the three fields' and the seeds' searches
   target_field = std::make_unique<SizingField>(pool.x, pool.normal, tg.spacing, &pool_index->tree);
   gauss_field = std::make_unique<SizingField>(pool.x, pool.normal, gauss, &pool_index->tree);
   thickness_field = std::make_unique<SizingField>(pool.x, pool.normal, tg.by_thickness, &pool_index->tree);

@@ -41,8 +41,7 @@ SizingField::SizingField(const std::vector<Eigen::Vector3d>& x, const std::vecto
     : x_(x),
       normal_(normal),
       value_(std::move(value)),
-      own_index_(index ? nullptr : std::make_unique<PointIndex>(x)),
-      tree_(index ? *index : own_index_->tree) {}
+      tree_(given_or_built(index, x, own_index_)) {}
 
 double SizingField::at(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
   uint32_t idx[kNeighbours];

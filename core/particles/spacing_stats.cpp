@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <numeric>
 
 #include "common/error.h"
@@ -34,13 +35,12 @@ double median_of(std::vector<double> v) {
 
 }  // namespace
 
-std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x, size_t stride) {
+std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x, size_t stride, const KdTree* index) {
   MPUMESH_ASSERT(stride >= 1, "local_spacing: stride must be at least 1");
   std::vector<double> out((x.size() + stride - 1) / stride, 0.0);
   if (x.size() < 7) return out;
-  PointsAdaptor adaptor{&x};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  std::unique_ptr<PointIndex> own;
+  const KdTree& tree = given_or_built(index, x, own);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k != r.end(); ++k) {
       const size_t i = k * stride;

@@ -6,10 +6,14 @@
 #include <Eigen/Dense>
 #include <vector>
 
+#include "common/kd_tree.h"
+
 namespace mpumesh::particles {
 
-// Of every stride-th point (0, stride, 2 stride, ...), among all of x.
-std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x, size_t stride = 1);
+// Of every stride-th point (0, stride, 2 stride, ...), among all of x; `index`: a
+// PointIndex's tree over x, when the caller has one.
+std::vector<double> local_spacing(const std::vector<Eigen::Vector3d>& x, size_t stride = 1,
+                                  const KdTree* index = nullptr);
 
 struct SpacingStats {
   double mean = 0, cv = 0;       // of the local spacing

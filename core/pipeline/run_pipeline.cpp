@@ -201,9 +201,8 @@ void sample_and_triangulate(Run& run, const PointCloud& cloud, const KdTree& ind
 // Each vertex's target spacing: that of the particle nearest to it (a repair point's is
 // its neighbourhood's).
 std::vector<double> vertex_spacing(const TriangleMesh& mesh, const particles::ParticleState& p) {
-  PointsAdaptor adaptor{&p.x};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  const PointIndex index(p.x);
+  const KdTree& tree = index.tree;
   std::vector<double> s(mesh.vertices.size());
   tbb::parallel_for(size_t(0), s.size(), [&](size_t v) {
     uint32_t i = 0;

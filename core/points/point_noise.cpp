@@ -13,8 +13,7 @@ double estimate_noise(const PointCloud& cloud, const KdTree* index) {
   const auto& pts = cloud.positions;
   if (pts.size() < kNear + 1) return 0;
   std::unique_ptr<PointIndex> own;
-  if (!index) own = std::make_unique<PointIndex>(pts);
-  const KdTree& tree = index ? *index : own->tree;
+  const KdTree& tree = given_or_built(index, pts, own);
   const size_t step = std::max<size_t>(1, pts.size() / kPicked);
   std::vector<double> sigma((pts.size() + step - 1) / step, -1.0);
   tbb::parallel_for(size_t(0), sigma.size(), [&](size_t j) {

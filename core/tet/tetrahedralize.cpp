@@ -66,9 +66,8 @@ void run_tetgen(const std::string& switches, tetgenio& in, tetgenio& out, tetgen
 // Step 2: each node's size, graded from the surface (see the header).
 void graded_sizes(tetgenio& mesh, const TriangleMesh& surface, const std::vector<double>& spacing,
                   const TetOptions& opt, double size) {
-  PointsAdaptor adaptor{&surface.vertices};
-  KdTree tree(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(16));
-  tree.buildIndex();
+  const PointIndex index(surface.vertices);
+  const KdTree& tree = index.tree;
   mesh.numberofpointmtrs = 1;
   delete[] mesh.pointmtrlist;
   mesh.pointmtrlist = new REAL[size_t(mesh.numberofpoints)];
