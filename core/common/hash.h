@@ -16,4 +16,13 @@ inline uint32_t fmix32(uint32_t h) {
   return h;
 }
 
+// Its 64-bit finalizer: the slot of a key in the open-addressing tables.
+inline uint64_t fmix64(uint64_t h) {
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdull;
+  h ^= h >> 33;
+  h *= 0xc4ceb9fe1a85ec53ull;
+  return h ^ (h >> 33);
+}
+
 }  // namespace mpumesh

@@ -12,6 +12,7 @@
 #include <unordered_set>
 
 #include "common/error.h"
+#include "common/hash.h"
 #include "geometry/drop_unused.h"
 #include "geometry/tet_mesh.h"
 #include "geometry/vertex_faces.h"
@@ -27,11 +28,6 @@ using Tri = std::array<uint32_t, 3>;
 
 Eigen::Vector3d area_normal(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
   return (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
-}
-
-// The angle between two vectors of any lengths (radians).
-double angle_between(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
-  return std::atan2(u.cross(v).norm(), u.dot(v));
 }
 
 // The angle at a of the triangle abc (radians).
@@ -90,10 +86,7 @@ class EdgeFaces {
   }
 
  private:
-  size_t slot(uint64_t key) const {
-    key = (key ^ (key >> 33)) * 0xff51afd7ed558ccdull;
-    return size_t(key ^ (key >> 29)) & mask_;
-  }
+  size_t slot(uint64_t key) const { return size_t(fmix64(key)) & mask_; }
   uint32_t find(uint64_t key) const {
     for (size_t at = slot(key);; at = (at + 1) & mask_)
       if (index_[at] == UINT32_MAX || keys_[index_[at]] == key) return index_[at];

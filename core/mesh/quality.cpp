@@ -58,18 +58,15 @@ DistanceStats stats_of(const DistanceSamples& s) {
 // atan2's rounding, so the minimum is the one of all three, bit for bit, for a third of
 // the atan2 calls (with all three, the mesh optimisation spends 16% of its time in them).
 double triangle_min_angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  auto angle = [](const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
-    return std::atan2(u.cross(v).norm(), u.dot(v));
-  };
   const double la = (b - c).squaredNorm(), lb = (a - c).squaredNorm(), lc = (a - b).squaredNorm();
   const double shortest = std::min({la, lb, lc});
   if (!std::isfinite(la + lb + lc))
-    return std::min({angle(b - a, c - a), angle(a - b, c - b), angle(a - c, b - c)}) * kDeg;
+    return std::min({angle_between(b - a, c - a), angle_between(a - b, c - b), angle_between(a - c, b - c)}) * kDeg;
   const double near = shortest * (1 + 1e-6);
   double m = INFINITY;
-  if (la <= near) m = std::min(m, angle(b - a, c - a));
-  if (lb <= near) m = std::min(m, angle(a - b, c - b));
-  if (lc <= near) m = std::min(m, angle(a - c, b - c));
+  if (la <= near) m = std::min(m, angle_between(b - a, c - a));
+  if (lb <= near) m = std::min(m, angle_between(a - b, c - b));
+  if (lc <= near) m = std::min(m, angle_between(a - c, b - c));
   return m * kDeg;
 }
 
@@ -142,7 +139,7 @@ Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt) {
     while (j < edges.size() && edges[j].first == edges[i].first) ++j;
     if (j - i == 2) {
       const Eigen::Vector3d &n1 = normal[edges[i].second], &n2 = normal[edges[i + 1].second];
-      dihedral.push_back(std::atan2(n1.cross(n2).norm(), n1.dot(n2)) * kDeg);
+      dihedral.push_back(angle_between(n1, n2) * kDeg);
     }
     i = j;
   }

@@ -4,7 +4,10 @@
 // reference surface, distances in mm. Units: mm, mm^2, mm^3, degrees.
 #pragma once
 
+#include <Eigen/Dense>
 #include <nlohmann/json.hpp>
+
+#include <cmath>
 #include <optional>
 
 #include "mesh/topology.h"
@@ -39,6 +42,11 @@ struct QualityOptions {
 Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt = {});
 nlohmann::json quality_to_json(const Quality& q);
 std::string quality_to_text(const Quality& q);
+
+// The angle between two vectors of any lengths (radians), accurate near 0 and pi.
+inline double angle_between(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+  return std::atan2(u.cross(v).norm(), u.dot(v));
+}
 
 // Per triangle: minimum interior angle (degrees) and radius ratio 2*r_in/r_circ (1 for an
 // equilateral triangle, 0 for a degenerate one).

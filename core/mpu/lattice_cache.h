@@ -14,6 +14,8 @@
 #include <cstring>
 #include <memory>
 
+#include "common/hash.h"
+
 namespace mpumesh::mpu {
 
 class LatticeCache {
@@ -37,7 +39,7 @@ class LatticeCache {
   template <class Compute>
   double get(uint64_t key, Compute&& compute) {
     const size_t mask = size_ - 1;
-    size_t at = size_t(mix(key)) & mask;
+    size_t at = size_t(fmix64(key)) & mask;
     for (int probe = 0; probe < kMaxProbe; ++probe, at = (at + 1) & mask) {
       Slot& s = slots_[at];
       uint64_t k = s.key.load(std::memory_order_acquire);
@@ -63,13 +65,6 @@ class LatticeCache {
     std::atomic<uint64_t> key{kEmpty};
     std::atomic<uint64_t> bits{kPending};
   };
-  static uint64_t mix(uint64_t h) {  // MurmurHash3's 64-bit finalizer
-    h ^= h >> 33;
-    h *= 0xff51afd7ed558ccdull;
-    h ^= h >> 33;
-    h *= 0xc4ceb9fe1a85ec53ull;
-    return h ^ (h >> 33);
-  }
   static uint64_t to_bits(double v) {
     uint64_t b;
     std::memcpy(&b, &v, sizeof b);
