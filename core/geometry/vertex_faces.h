@@ -8,6 +8,8 @@
 #include <span>
 #include <vector>
 
+#include "geometry/triangle_mesh.h"
+
 namespace mpumesh {
 
 struct VertexFaces {
@@ -30,6 +32,11 @@ VertexFaces vertex_faces(size_t vertices, size_t faces, VertsOf verts_of) {
   for (size_t f = 0; f < faces; ++f)
     for (uint32_t v : verts_of(f)) r.faces[fill[v]++] = uint32_t(f);
   return r;
+}
+
+// Of a mesh's triangles.
+inline VertexFaces vertex_faces(const TriangleMesh& m) {
+  return vertex_faces(m.vertices.size(), m.triangles.size(), [&](size_t f) { return m.triangles[f]; });
 }
 
 }  // namespace mpumesh

@@ -35,10 +35,6 @@ double angle_at(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen:
   return angle_between(b - a, c - a);
 }
 
-VertexFaces vertex_faces(const TriangleMesh& m) {
-  return mpumesh::vertex_faces(m.vertices.size(), m.triangles.size(), [&](size_t f) { return m.triangles[f]; });
-}
-
 // The distance of each point from the surface: |f| (on the backend), which is about the
 // distance in mm near f = 0 (mpu_surface.h).
 std::vector<double> surface_distances(const mpu::MpuSurface& s, ComputeBackend& backend,

@@ -81,8 +81,7 @@ Topology analyze_topology(const TriangleMesh& mesh) {
     i = j;
   }
   // Fans: around each vertex, triangles are linked when they share an edge at the vertex.
-  const VertexFaces vf =
-      vertex_faces(mesh.vertices.size(), mesh.triangles.size(), [&](size_t f) { return mesh.triangles[f]; });
+  const VertexFaces vf = vertex_faces(mesh);
   t.nonmanifold_vertices = tbb::parallel_reduce(
       tbb::blocked_range<size_t>(0, mesh.vertices.size(), 4096), int64_t(0),
       [&](const tbb::blocked_range<size_t>& r, int64_t count) {
