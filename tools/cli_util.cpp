@@ -20,12 +20,31 @@ void add_common(CLI::App* cmd, CommonOptions& common) {
   cmd->add_flag("--json", common.json, "print a JSON summary on stdout");
 }
 
+namespace {
+
+void announce(const vk::BackendChoice& choice, const CommonOptions& common, Progress& progress) {
+  if (!choice.note.empty() && !common.quiet) std::fprintf(stderr, "mpumesh: %s\n", choice.note.c_str());
+  progress.note("device: " + choice.backend->device());
+}
+
+}  // namespace
+
 vk::BackendChoice open_backend(const BackendOptions& b, const CommonOptions& common, Progress& progress) {
   progress.begin("backend");
   vk::BackendChoice choice = vk::make_backend(b.name, b.device);
   progress.end();
-  if (!choice.note.empty() && !common.quiet) std::fprintf(stderr, "mpumesh: %s\n", choice.note.c_str());
-  progress.note("device: " + choice.backend->device());
+  announce(choice, common, progress);
+  return choice;
+}
+
+EarlyBackend::EarlyBackend(const BackendOptions& b)
+    : made_(std::async(std::launch::async, [b] { return vk::make_backend(b.name, b.device); })) {}
+
+vk::BackendChoice EarlyBackend::open(const CommonOptions& common, Progress& progress) {
+  progress.begin("backend");
+  vk::BackendChoice choice = made_.get();
+  progress.end();
+  announce(choice, common, progress);
   return choice;
 }
 

@@ -2,6 +2,7 @@
 // the stage-time summary.
 #pragma once
 
+#include <future>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -22,6 +23,19 @@ void add_common(CLI::App* cmd, CommonOptions& common);
 // Makes the backend, timed as the "backend" stage; prints the choice's note unless quiet.
 vk::BackendChoice open_backend(const BackendOptions& b, const CommonOptions& common, Progress& progress);
 nlohmann::json backend_json(const vk::BackendChoice& choice);
+
+// The backend made on a thread of its own from the start of a command, so that finding
+// the Vulkan devices (the loader opens every driver: about 0.1 s with lavapipe alone)
+// overlaps reading the input. `open` takes it, as open_backend does (the "backend" stage
+// is then the wait); the thread's error, if any, is thrown there.
+class EarlyBackend {
+ public:
+  explicit EarlyBackend(const BackendOptions& b);
+  vk::BackendChoice open(const CommonOptions& common, Progress& progress);
+
+ private:
+  std::future<vk::BackendChoice> made_;
+};
 
 // Writes `j` to `path` atomically.
 void write_json_file(const nlohmann::json& j, const std::string& path);
