@@ -38,11 +38,12 @@ vk::BackendChoice open_backend(const BackendOptions& b, const CommonOptions& com
 }
 
 EarlyBackend::EarlyBackend(const BackendOptions& b)
-    : made_(std::async(std::launch::async, [b] { return vk::make_backend(b.name, b.device); })) {}
+    : options_(b), made_(std::async(std::launch::async, [b] { return vk::make_backend(b.name, b.device); })) {}
 
 vk::BackendChoice EarlyBackend::open(const CommonOptions& common, Progress& progress) {
   progress.begin("backend");
-  vk::BackendChoice choice = made_.get();
+  // Asked again after the first failed: made here, failing the same way.
+  vk::BackendChoice choice = made_.valid() ? made_.get() : vk::make_backend(options_.name, options_.device);
   progress.end();
   announce(choice, common, progress);
   return choice;

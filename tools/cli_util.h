@@ -27,13 +27,15 @@ nlohmann::json backend_json(const vk::BackendChoice& choice);
 // The backend made on a thread of its own from the start of a command, so that finding
 // the Vulkan devices (the loader opens every driver: about 0.1 s with lavapipe alone)
 // overlaps reading the input. `open` takes it, as open_backend does (the "backend" stage
-// is then the wait); the thread's error, if any, is thrown there.
+// is then the wait); the thread's error, if any, is thrown there, and a later `open`
+// makes the backend anew.
 class EarlyBackend {
  public:
   explicit EarlyBackend(const BackendOptions& b);
   vk::BackendChoice open(const CommonOptions& common, Progress& progress);
 
  private:
+  BackendOptions options_;
   std::future<vk::BackendChoice> made_;
 };
 

@@ -172,6 +172,7 @@ nlohmann::json yield_to_earlier_labels(pipeline::RunResult& r, int64_t label, co
 void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
   const bool talk = !common.json && !common.quiet;
   Progress progress(!talk);
+  EarlyBackend early(o.backend);
   progress.begin("read volume");
   const Volume vol = read_volume(o.input);
   progress.end();
@@ -180,7 +181,7 @@ void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonO
   const bool all = o.labels == "all";
   vk::BackendChoice choice;
   const pipeline::BackendOpener open = [&]() -> ComputeBackend& {
-    if (!choice.backend) choice = open_backend(o.backend, common, progress);
+    if (!choice.backend) choice = early.open(common, progress);
     return *choice.backend;
   };
   PendingOutputs pending;
