@@ -9,8 +9,12 @@
 // --threshold T --quiet` runs, timed from reading the file to the checked mesh (the peers
 // get the volume already read; the ratio to Mesh_3 is also given with the read added to
 // its time, as a program of a user's would read it), on the backend `auto` picks.
+// With ROUNDS > 1, ours and Mesh_3 run in turn that many times (the meshes of the first
+// round are the ones measured; ours is the same mesh every round, Mesh_3's differs a
+// little): the times are the medians, and each round's ratio is printed too, since this
+// machine's speed drifts within minutes and one round's ratio can be off by a third.
 // Usage:
-//   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto]
+//   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -18,6 +22,7 @@
 #include <cstdio>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "cgal_mesh3_peer.h"
 #include "mesh_rows.h"
@@ -37,6 +42,11 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double sec_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+}
 
 // Each stage's time (summed over repeats, as the count raises repeat the sampling).
 class StageTimes : public pipeline::Observer {
@@ -59,7 +69,9 @@ class StageTimes : public pipeline::Observer {
 int main(int argc, char** argv) {
   tune_memory(argv);  // as mpumesh does; the peers run in this process too
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto]\n", argv[0]);
+    std::fprintf(stderr,
+                 "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS]\n",
+                 argv[0]);
     return 2;
   }
   const std::string path = argv[1];
@@ -69,6 +81,7 @@ int main(int argc, char** argv) {
   m3.iso = iso;
   if (argc > 4) m3.facet_size = std::stod(argv[4]);
   if (argc > 5) m3.facet_distance = std::stod(argv[5]);
+  const int rounds = argc > 7 ? std::max(1, std::stoi(argv[7])) : 1;
 
   auto t = Clock::now();
   const Volume vol = read_volume(path);  // for the peers
@@ -93,10 +106,15 @@ int main(int argc, char** argv) {
   ro.sample.particles = particles;  // 0: the product's default
   ro.quality = false;               // --quiet and no report
   StageTimes times;
-  const auto t_all = Clock::now();
-  const pipeline::RunResult run = pipeline::run_pipeline(
-      path, ro, [&]() -> ComputeBackend& { return *choice.backend; }, &times);
-  const double t_ours = sec_since(t_all);
+  auto run_ours = [&](StageTimes& st, double& seconds) {
+    const auto t_all = Clock::now();
+    pipeline::RunResult r = pipeline::run_pipeline(path, ro, [&]() -> ComputeBackend& { return *choice.backend; }, &st);
+    seconds = sec_since(t_all);
+    return r;
+  };
+  std::vector<double> ours_s(static_cast<size_t>(rounds)), mesh3_s(static_cast<size_t>(rounds));
+  const pipeline::RunResult run = run_ours(times, ours_s[0]);
+  const double t_ours_first = ours_s[0];
   const TriangleMesh& ours = run.mesh;
   const mpu::MpuSurface& surf = run.surface;
   const double t_seg = times.at("segment"), t_points = times.at("points"), t_fit = times.at("fit");
@@ -104,7 +122,7 @@ int main(int argc, char** argv) {
               "(%lld, %d iterations, %s), triangulate %.2f s (%lld repair points, %zu count raises): %.2f s\n",
               times.at("read volume"), t_seg, t_points, run.points, t_fit, surf.leaves.size(), times.at("particles"),
               (long long)run.sample.particles, run.sample.iterations, run.sample.converged ? "settled" : "at the cap",
-              times.at("triangulate"), (long long)run.triangulation.repair_points, run.raises.size(), t_ours);
+              times.at("triangulate"), (long long)run.triangulation.repair_points, run.raises.size(), t_ours_first);
 
   t = Clock::now();
   const TriangleMesh poly = mpu::polygonize(surf, 0, cpu);
@@ -113,18 +131,38 @@ int main(int argc, char** argv) {
   const bench::Mesh3Result cg = bench::cgal_mesh3(vol, m3);
   std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g, %lld initial points, %.2f s\n",
               m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg.initial_points, cg.seconds);
+  mesh3_s[0] = cg.seconds;
+  std::vector<size_t> mesh3_triangles = {cg.mesh.triangles.size()};
+  for (int k = 1; k < rounds; ++k) {
+    StageTimes unused;
+    const pipeline::RunResult again = run_ours(unused, ours_s[size_t(k)]);
+    if (again.mesh.triangles != ours.triangles) std::printf("warning: round %d made another mesh of ours\n", k + 1);
+    const bench::Mesh3Result cg_again = bench::cgal_mesh3(vol, m3);
+    mesh3_s[size_t(k)] = cg_again.seconds;
+    mesh3_triangles.push_back(cg_again.mesh.triangles.size());
+  }
+  const double t_ours = median(ours_s), t_mesh3 = median(mesh3_s);
+  if (rounds > 1) {
+    // (Mesh_3's initial points are random: its triangles differ a little between rounds.)
+    std::printf("%d rounds, in turn (Mesh_3's triangles in brackets):\n", rounds);
+    for (int k = 0; k < rounds; ++k)
+      std::printf("  ours %.2f s, Mesh_3 %.2f s [%zu]: %.2f\n", ours_s[size_t(k)], mesh3_s[size_t(k)],
+                  mesh3_triangles[size_t(k)], ours_s[size_t(k)] / mesh3_s[size_t(k)]);
+    std::printf("medians: ours %.2f s, CGAL Mesh_3 %.2f s (the table's times; its figures are the first round's)\n",
+                t_ours, t_mesh3);
+  }
 
   std::vector<bench::Row> rows(4);
   rows[0] = {"ours (" + choice.backend->kind() + ")", &ours, t_ours};
-  rows[1] = {"CGAL Mesh_3", &cg.mesh, cg.seconds};
+  rows[1] = {"CGAL Mesh_3", &cg.mesh, t_mesh3};
   rows[2] = {"original MPU", &poly, t_poly + t_seg + t_points + t_fit};
   rows[3] = {"marching cubes", &mc_mesh, t_mc};
   for (size_t i = 0; i < rows.size(); ++i) bench::measure(rows[i], mc_mesh, i < 2);
 
   bench::print_rows(rows);
-  std::printf("\ntime ours / CGAL Mesh_3: %.2f; triangles ours / CGAL: %.2f\n", t_ours / cg.seconds,
+  std::printf("\ntime ours / CGAL Mesh_3: %.2f; triangles ours / CGAL: %.2f\n", t_ours / t_mesh3,
               double(ours.triangles.size()) / double(std::max<size_t>(cg.mesh.triangles.size(), 1)));
   // A user's Mesh_3 program reads the volume too (CGAL reads no .inv3 or DICOM series).
-  std::printf("time ours / (the volume's read, %.2f s, + CGAL Mesh_3): %.2f\n", t_read, t_ours / (t_read + cg.seconds));
+  std::printf("time ours / (the volume's read, %.2f s, + CGAL Mesh_3): %.2f\n", t_read, t_ours / (t_read + t_mesh3));
   return 0;
 }
