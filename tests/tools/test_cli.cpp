@@ -445,6 +445,10 @@ TEST(Cli, ErrorsNameTheFileAndLeaveNothing) {
     std::ofstream(dir + "/junk.nii") << "definitely not nifti";
   }
   expect_fail("mc " + dir + "/junk.nii -o " + dir + "/out.ply", "junk.nii");
+  // run finds its backend while it reads the input: a backend that cannot be made fails
+  // the run once the volume is read, and a bad input fails it first.
+  expect_fail("run " + ball + " --threshold 0 -o " + dir + "/out.ply --backend gpu --device 99", "device");
+  expect_fail("run " + dir + "/junk.nii -o " + dir + "/out.ply --backend gpu --device 99", "junk.nii");
   // A failed run does not replace a good file.
   ASSERT_EQ(run("mc " + ball + " --threshold 0 -o " + dir + "/good.ply --quiet").code, 0);
   const std::string before = read_file(dir + "/good.ply");
