@@ -15,7 +15,9 @@ namespace mpumesh::particles {
 std::vector<uint32_t> hashed_order(size_t n, uint32_t seed);
 
 // The subset, as ascending indices into pts. Visited block by block (blocks of 16³ grid
-// cells of at least the largest radius, in row order), each block's points in `order`:
+// cells of the largest radius or a 96th of the points' extent, whichever is larger, from
+// the points' lowest corner, in row order; blocks whose results cannot meet run in
+// parallel, the subset being the one of that order), each block's points in `order`:
 // every kept pair is at least the mean of its radii apart, and every other point lies
 // closer than that to a kept one (the subset is maximal). A block's border with the
 // blocks done before it packs a little closer than the random order does: on a 60 mm

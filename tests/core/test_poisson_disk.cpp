@@ -1,8 +1,10 @@
 // The seeding's Poisson-disk subsets (core/particles/poisson_disk.h): on random points with
 // random radii, every kept pair is at least the mean of its radii apart, every other point
 // closer than that to a kept one (maximal), the result repeatable and different for
-// another seed; visited block by block it is as dense as the plain greedy sample.
+// another seed; visited block by block it is as dense as the plain greedy sample, and the
+// blocks run in parallel give the subset of their row order.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cmath>
@@ -81,6 +83,53 @@ TEST(PoissonDisk, BlocksKeepTheDensity) {
   std::printf("%zu kept by blocks, %zu in the plain order, of %zu\n", keep.size(), plain.size(), c.x.size());
   expect_disk_sample(c, keep);
   EXPECT_NEAR(double(keep.size()) / double(plain.size()), 1.0, 0.01);
+}
+
+// The header's rule one point at a time: blocks in row order, each block's points in
+// `order`, each kept unless it conflicts with a point kept before it.
+std::vector<size_t> in_row_order(const Cloud& c, const std::vector<uint32_t>& order) {
+  Eigen::Vector3d lo = c.x[0], hi = lo;
+  for (const auto& p : c.x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double cell = std::max(*std::max_element(c.r.begin(), c.r.end()), (hi - lo).maxCoeff() / 96.0);
+  int64_t blocks[3];
+  for (int d = 0; d < 3; ++d) blocks[d] = int64_t((hi[d] - lo[d]) / cell) / 16 + 1;
+  auto block_of = [&](uint32_t i) {
+    int64_t b[3];
+    for (int d = 0; d < 3; ++d) b[d] = int64_t((c.x[i][d] - lo[d]) / cell) / 16;
+    return b[0] + blocks[0] * (b[1] + blocks[1] * b[2]);
+  };
+  std::vector<uint32_t> visit(order);
+  std::stable_sort(visit.begin(), visit.end(), [&](uint32_t a, uint32_t b) { return block_of(a) < block_of(b); });
+  std::vector<size_t> kept;
+  for (uint32_t i : visit) {
+    bool free = true;
+    for (size_t j : kept) {
+      const double r = 0.5 * (c.r[i] + c.r[j]);
+      free = free && (c.x[i] - c.x[j]).squaredNorm() >= r * r;
+    }
+    if (free) kept.push_back(i);
+  }
+  std::sort(kept.begin(), kept.end());
+  return kept;
+}
+
+TEST(PoissonDisk, ParallelBlocksGiveTheRowOrdersSubset) {
+  // 60 mm sphere, radii 0.8-1.6 mm: cells of 1.25 mm (a 96th of the extent), 7 blocks a
+  // side, run in parallel where they do not touch; the subset must be the one of the
+  // blocks visited in row order, whatever the thread count.
+  const Cloud c = sphere_cloud(12000, 60.0, 0.8, 1.6, 11);
+  const std::vector<uint32_t> order = particles::hashed_order(c.x.size(), 4);
+  const std::vector<size_t> want = in_row_order(c, order);
+  for (const int threads : {1, 2, 4}) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    std::vector<size_t> got;
+    for (int run = 0; run < 3; ++run) {
+      got = particles::poisson_disk(c.x, c.r, order);
+      EXPECT_EQ(got, want) << threads << " threads, run " << run;
+    }
+  }
+  std::printf("%zu of %zu points kept\n", want.size(), c.x.size());
+  expect_disk_sample(c, want);
 }
 
 TEST(PoissonDisk, EmptyAndSingle) {
