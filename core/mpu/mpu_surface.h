@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/default_init.h"
 #include "mpu/local_poly.h"
 
 namespace mpumesh::mpu {
@@ -33,7 +34,7 @@ struct Leaf {
 struct LookupGrid {
   std::array<uint32_t, 3> dims{1, 1, 1};
   std::vector<uint32_t> offsets;  // cells + 1, CSR into leaf_ids
-  std::vector<uint32_t> leaf_ids;
+  FillVector<uint32_t> leaf_ids;  // (filled in parallel: common/default_init.h)
   // Per leaf: centre and R², a compact copy (32 B per leaf instead of ~280) for the
   // support test that most candidates fail; not stored in the file, rebuilt on reading.
   std::vector<Eigen::Vector4d> spheres;

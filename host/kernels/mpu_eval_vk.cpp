@@ -18,8 +18,8 @@ const std::vector<Binding> kBindings = {
 // per point).
 constexpr size_t kChunk = size_t(1) << 22;
 
-template <class T>
-std::unique_ptr<Buffer> upload(Context& ctx, const std::vector<T>& v) {
+template <class T, class A>
+std::unique_ptr<Buffer> upload(Context& ctx, const std::vector<T, A>& v) {
   // A zero-sized buffer is not allowed; an empty list still gets one element.
   const VkDeviceSize bytes = std::max<VkDeviceSize>(v.size() * sizeof(T), sizeof(T));
   auto b = std::make_unique<Buffer>(ctx, bytes, kStorage);
