@@ -60,7 +60,8 @@ std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const 
     std::vector<uint32_t> block(order_in.size());
     for (size_t k = 0; k < order_in.size(); ++k) {
       const Eigen::Vector3d& p = pts[order_in[k]];
-      block[k] = uint32_t(cell_of(p, 0) / kBlock + blocks[0] * (cell_of(p, 1) / kBlock + blocks[1] * (cell_of(p, 2) / kBlock)));
+      const int64_t b[3] = {cell_of(p, 0) / kBlock, cell_of(p, 1) / kBlock, cell_of(p, 2) / kBlock};
+      block[k] = uint32_t(b[0] + blocks[0] * (b[1] + blocks[1] * b[2]));
       ++start[block[k] + 1];
     }
     for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
@@ -113,7 +114,8 @@ std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const 
   };
   // Each block waits for its neighbours before it in row order.
   auto neighbours = [&](size_t b, auto&& fn) {
-    const int64_t bx = int64_t(b) % blocks[0], by = int64_t(b) / blocks[0] % blocks[1], bz = int64_t(b) / (blocks[0] * blocks[1]);
+    const int64_t bx = int64_t(b) % blocks[0], by = int64_t(b) / blocks[0] % blocks[1];
+    const int64_t bz = int64_t(b) / (blocks[0] * blocks[1]);
     for (int64_t z = std::max<int64_t>(bz - 1, 0); z <= std::min(bz + 1, blocks[2] - 1); ++z)
       for (int64_t y = std::max<int64_t>(by - 1, 0); y <= std::min(by + 1, blocks[1] - 1); ++y)
         for (int64_t x = std::max<int64_t>(bx - 1, 0); x <= std::min(bx + 1, blocks[0] - 1); ++x) {
