@@ -31,8 +31,8 @@ std::vector<uint32_t> hashed_order(size_t n, uint32_t seed) {
 // order, a block sees the points kept in its neighbours before it in that order (all of
 // theirs) and none of the neighbours after it. So a block starts once those of its
 // neighbours that come before it are done: it sees what it would see in row order, and
-// the neighbours after it wait for it. (On the sample CT the seeds' three serial disks
-// took 0.03, 0.03 and 0.02 s each.)
+// the neighbours after it wait for it. (On the sample CT each of the seeds' three disks,
+// which run one after another, takes 0.02-0.03 s on one core.)
 std::vector<size_t> poisson_disk(const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& radius,
                                  const std::vector<uint32_t>& order_in) {
   MPUMESH_ASSERT(radius.size() == pts.size() && order_in.size() == pts.size(),
