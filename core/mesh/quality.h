@@ -7,9 +7,9 @@
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
-#include <cmath>
 #include <optional>
 
+#include "geometry/angle.h"
 #include "mesh/topology.h"
 #include "geometry/triangle_mesh.h"
 
@@ -42,11 +42,6 @@ struct QualityOptions {
 Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt = {});
 nlohmann::json quality_to_json(const Quality& q);
 std::string quality_to_text(const Quality& q);
-
-// The angle between two vectors of any lengths (radians), accurate near 0 and pi.
-inline double angle_between(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
-  return std::atan2(u.cross(v).norm(), u.dot(v));
-}
 
 // Per triangle: minimum interior angle (degrees) and radius ratio 2*r_in/r_circ (1 for an
 // equilateral triangle, 0 for a degenerate one).

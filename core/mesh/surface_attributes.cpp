@@ -1,6 +1,7 @@
 #include "mesh/surface_attributes.h"
 
 #include "common/error.h"
+#include "geometry/angle.h"
 #include "mpu/mpu_eval_ref.h"
 #include "particles/sizing_field.h"
 
@@ -36,7 +37,7 @@ void estimate_mesh_curvature(TriangleMesh& mesh) {
     double ang[3], cot[3];
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d u = p[(k + 1) % 3] - p[k], v = p[(k + 2) % 3] - p[k];
-      ang[k] = std::atan2(u.cross(v).norm(), u.dot(v));
+      ang[k] = angle_between(u, v);
       cot[k] = u.dot(v) / a2;
     }
     const bool obtuse = ang[0] > std::numbers::pi / 2 || ang[1] > std::numbers::pi / 2 || ang[2] > std::numbers::pi / 2;

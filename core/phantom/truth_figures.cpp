@@ -1,5 +1,6 @@
 #include "phantom/truth_figures.h"
 
+#include "geometry/angle.h"
 #include "particles/spacing_stats.h"
 
 #include <tbb/parallel_for.h>
@@ -37,7 +38,7 @@ std::vector<double> discrete_gauss(const TriangleMesh& m) {
     for (int c = 0; c < 3; ++c) {
       const Eigen::Vector3d e1 = m.vertices[t[(c + 1) % 3]] - m.vertices[t[c]];
       const Eigen::Vector3d e2 = m.vertices[t[(c + 2) % 3]] - m.vertices[t[c]];
-      deficit[t[c]] -= std::atan2(e1.cross(e2).norm(), e1.dot(e2));
+      deficit[t[c]] -= angle_between(e1, e2);
       area[t[c]] += a3;
     }
   }

@@ -4,10 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <sstream>
 
 #include "common/error.h"
+#include "mesh/quality.h"
 #include "mesh/surface_attributes.h"
 
 namespace mpumesh::render {
@@ -168,11 +168,7 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
     if (opt.color == ColorBy::kCurvature) {
       for (int c = 0; c < 3; ++c) corner[f * 3 + size_t(c)] = float(gauss[t[size_t(c)]]);
     } else if (opt.color == ColorBy::kMinAngle) {
-      double m = 180;
-      for (int c = 0; c < 3; ++c) {
-        const Eigen::Vector3d u = p[(c + 1) % 3] - p[c], v = p[(c + 2) % 3] - p[c];
-        m = std::min(m, std::atan2(u.cross(v).norm(), u.dot(v)) * 180 / std::numbers::pi);
-      }
+      const double m = triangle_min_angle_deg(p[0], p[1], p[2]);
       for (int c = 0; c < 3; ++c) corner[f * 3 + size_t(c)] = float(m);
     } else if (opt.color == ColorBy::kEdgeLength) {
       const double e = ((p[1] - p[0]).norm() + (p[2] - p[1]).norm() + (p[0] - p[2]).norm()) / 3;
