@@ -23,7 +23,7 @@ extern "C" void on_signal(int sig) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  mpumesh::tune_memory(argv);
+  mpumesh::tune_memory();
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
   CLI::App app{"mpumesh: smooth, closed, adaptive triangle meshes from CT/MR volumes"};

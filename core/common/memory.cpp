@@ -31,18 +31,10 @@ uint64_t available_memory_bytes() {
   return pages > 0 && size > 0 ? uint64_t(pages) * uint64_t(size) : UINT64_MAX;
 }
 
-void tune_memory(char** argv) {
+void tune_memory() {
 #if defined(__GLIBC__) && defined(__linux__)
-  const char* tunables = std::getenv("GLIBC_TUNABLES");
-  if (!tunables || !std::strstr(tunables, "glibc.malloc.hugetlb")) {
-    const std::string with = (tunables && *tunables ? std::string(tunables) + ":" : std::string()) +
-                             "glibc.malloc.hugetlb=1";
-    if (setenv("GLIBC_TUNABLES", with.c_str(), 1) == 0) execv("/proc/self/exe", argv);  // returns only on failure
-  }
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
   mallopt(M_TRIM_THRESHOLD, INT32_MAX);
-#else
-  (void)argv;
 #endif
 }
 

@@ -29,17 +29,16 @@ uint64_t peak_rss_bytes();
 uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles, bool volume_mesh = false);
 
 // Memory for a whole run, set once at the start of a program that runs the pipeline
-// (mpumesh, the whole-run benchmarks; `argv` is its main's). A run allocates and frees
-// its stages' large buffers over and over, and each fresh 4 KiB page costs a fault: on
-// the sample CT at 45,000 particles, 90,000 faults. So, with glibc:
-// - freed memory stays in the process for the next allocation (blocks up to 32 MiB come
-//   from the heap, not fresh mappings, and the heap is not trimmed): 78,000 faults;
-// - malloc asks the kernel for transparent huge pages (glibc's tunable
-//   glibc.malloc.hugetlb=1, read only when a program starts: so the program starts itself
-//   again, once, with it added to GLIBC_TUNABLES, unless that already sets it): 17,000
-//   faults, and the run 5.09 s -> 4.85 s (means of four runs each, in turn).
-// Where the kernel gives no huge pages, or the restart fails, the run goes on as it is.
-void tune_memory(char** argv);
+// (mpumesh, the whole-run benchmarks). A run allocates and frees its stages' large
+// buffers over and over, and each fresh page costs a fault and the kernel's zeroing: on
+// the sample CT at 45,000 particles, 90,000 faults. So, with glibc, freed memory stays in
+// the process for the next allocation (blocks up to 32 MiB come from the heap, not fresh
+// mappings, and the heap is not trimmed): 76,000 faults. Malloc does not ask for
+// transparent huge pages (glibc.malloc.hugetlb=1): with them a run took 17,000 faults but
+// 4.54-4.70 s against 4.18-4.43 s (seven runs each, in turn, 2-core virtual machine),
+// since a virtual machine that hands freed memory back to its host (free page reporting)
+// zeroes a fresh 2 MiB page at a quarter of the speed of 4 KiB ones.
+void tune_memory();
 
 // Throws InputError naming `what` when the estimate exceeds the memory available.
 void check_memory(const std::string& what, uint64_t need_bytes);

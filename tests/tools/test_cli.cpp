@@ -113,27 +113,6 @@ TEST(Cli, McWritesAClosedMeshAndJson) {
   EXPECT_GT(qj["volume_mm3"].get<double>(), 0);
 }
 
-// The program starts itself again with glibc's huge-page tunable (common/memory.h): its
-// arguments, output and exit code are the same whether it restarts (no GLIBC_TUNABLES, or
-// one without the setting) or not (the setting given).
-TEST(Cli, RunsTheSameWhetherItRestartsForHugePages) {
-  const std::string dir = test::temp_dir("restart");
-  const std::string ball = ball_phantom(dir);
-  std::string first;
-  for (const std::string env : {"env -u GLIBC_TUNABLES", "GLIBC_TUNABLES=glibc.malloc.check=0",
-                                "GLIBC_TUNABLES=glibc.malloc.hugetlb=0"}) {
-    const Result r = run("mc " + ball + " --threshold 0 -o '" + dir + "/ball two.stl' --backend cpu --json", env);
-    ASSERT_EQ(r.code, 0) << env << "\n" << r.out;
-    std::ifstream in(dir + "/ball two.stl", std::ios::binary);
-    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    EXPECT_GT(bytes.size(), 1000u) << env;
-    if (first.empty()) first = bytes;
-    EXPECT_EQ(bytes, first) << env;
-  }
-  expect_failure("mc " + dir + "/none.mha -o " + dir + "/none.stl", "none.mha", dir + "/none.stl",
-                 "env -u GLIBC_TUNABLES");
-}
-
 TEST(Cli, RunWritesMeshAndReport) {
   const std::string dir = test::temp_dir("run");
   const Result r = run("run " + ball_phantom(dir) + " --threshold 0 --particles 1500 -o " + dir + "/m.ply --report " + dir +

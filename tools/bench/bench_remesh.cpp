@@ -43,7 +43,7 @@ struct TempDir {
 }  // namespace
 
 int main(int argc, char** argv) {
-  tune_memory(argv);  // as mpumesh does; the peers run in this process too
+  tune_memory();  // as mpumesh does; the peers run in this process too
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [cpu|gpu|auto]\n", argv[0]);
     return 2;

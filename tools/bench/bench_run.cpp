@@ -67,7 +67,7 @@ class StageTimes : public pipeline::Observer {
 }  // namespace
 
 int main(int argc, char** argv) {
-  tune_memory(argv);  // as mpumesh does; the peers run in this process too
+  tune_memory();  // as mpumesh does; the peers run in this process too
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS]\n",
