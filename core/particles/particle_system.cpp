@@ -320,6 +320,8 @@ struct Sampler {
   // Per pool point: its area, its K and larger principal |κ| (from the blended Hessian,
   // then at the sampling's scale: sizing_field.h), weight, thickness and target.
   std::vector<double> cell_area, gauss, kappa, lambda, thick;
+  // The reach `thick` was measured to, the same at every pool point (0: per point).
+  double thick_reach = 0;
   double h = 0;
   Targets tg;
   // The targets (and where the thickness sets them) as fields over the surface, for the
@@ -455,6 +457,7 @@ double Sampler::solve_flat_spacing(const std::vector<double>& kappa_bound) {
                                                           : 0.0;
   if (fixed > 0) {
     thick = thicknesses(backend, s, pool, lambda, fixed / opt.thickness_factor);
+    thick_reach = 0;
     return fixed;
   }
   double inv = 0;
@@ -463,7 +466,14 @@ double Sampler::solve_flat_spacing(const std::vector<double>& kappa_bound) {
   // count_for(h0) >= particles; without the bend bound at most exp(2S) times that (the
   // floor), with it more; bisect.
   double hmax = h0 * std::exp(opt.curvature_scale);
-  thick = thicknesses(backend, s, pool, std::vector<double>(pool.size(), 1.0), hmax / opt.thickness_factor);
+  // A thickness measured as far already serves: one beyond hmax never bounds a target
+  // (spacing_targets). The second solve's hmax is the first's within a fraction of a
+  // percent (the curvature averaged over patches moves h0 little), so the search runs
+  // once (on the sample CT at 45,000 particles, 10.148 against 10.160 mm).
+  if (!(thick_reach >= hmax / opt.thickness_factor)) {
+    thick_reach = hmax / opt.thickness_factor;
+    thick = thicknesses(backend, s, pool, std::vector<double>(pool.size(), 1.0), thick_reach);
+  }
   for (int grow = 0; grow < 20 && count_for(hmax) > double(opt.particles); ++grow) hmax *= 2;
   double a = h0, b = hmax;
   if (count_for(b) > double(opt.particles)) a = b;
@@ -477,6 +487,7 @@ double Sampler::solve_flat_spacing(const std::vector<double>& kappa_bound) {
   if (by_default && hh < 0.5 * gap) {
     hh = 0.5 * gap;
     thick = thicknesses(backend, s, pool, lambda, hh / opt.thickness_factor);
+    thick_reach = 0;
   }
   return hh;
 }
