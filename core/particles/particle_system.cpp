@@ -708,8 +708,8 @@ void Sampler::iterate() {
     // to twice its radius, which fission fills slowly; on the sample CT at 45,000
     // particles the count grows by 0.6-1.0% per update from the 15th iteration on.) The
     // mesh optimisation finishes what the particles leave: on the sample CT at 45,000
-    // particles, seeds 1-5 settle after 20-25 iterations (25-30 with the final batch),
-    // with smallest angles of 25.1-26.3° and radius ratios of 0.961-0.963; at its
+    // particles, seeds 1-5 settle after 20 iterations (25 with the final batch), with
+    // smallest angles of 25.2-26.3° and radius ratios of 0.961-0.962; at its
     // default count, 35 iterations against 45 with a bound of 10%, 9.0 s against 9.9 s
     // for the whole run, radius ratio 0.966 against 0.968.
     const bool settled = std::abs(rec.births - rec.deaths) <= std::max<int64_t>(1, int64_t(st.size()) / 100) &&
