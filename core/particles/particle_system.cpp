@@ -351,6 +351,9 @@ struct Sampler {
   // set (SampleOptions::normal_turn): kDefaultFlatVoxels voxels, or for a surface not
   // from a volume the flat spacing its count asks for without the bound.
   double solve_flat_spacing(const std::vector<double>& kappa_bound);
+  // `thick` measured out to reach × λ_i at each pool point (`weights` λ), or out to
+  // reach at every one (null); `thick_reach` follows.
+  void measure_thickness(const std::vector<double>* weights, double reach);
   double h_ref = 0;
   void solve_spacing();
   void seed();
@@ -442,6 +445,11 @@ void Sampler::pool_curvature() {
   }
 }
 
+void Sampler::measure_thickness(const std::vector<double>* weights, double reach) {
+  thick = thicknesses(backend, s, pool, weights ? *weights : std::vector<double>(pool.size(), 1.0), reach);
+  thick_reach = weights ? 0.0 : reach;
+}
+
 // The flat spacing h whose targets ask for opt.particles (bisection; the count falls as h
 // grows, the bend bound scaled by h / h_ref with it), with the thickness measured up to the
 // largest h tried; or opt.spacing; or, by default from a volume, h_ref.
@@ -456,8 +464,7 @@ double Sampler::solve_flat_spacing(const std::vector<double>& kappa_bound) {
                        : by_default && opt.voxel_size > 0 ? kDefaultFlatVoxels * opt.voxel_size
                                                           : 0.0;
   if (fixed > 0) {
-    thick = thicknesses(backend, s, pool, lambda, fixed / opt.thickness_factor);
-    thick_reach = 0;
+    measure_thickness(&lambda, fixed / opt.thickness_factor);
     return fixed;
   }
   double inv = 0;
@@ -470,10 +477,7 @@ double Sampler::solve_flat_spacing(const std::vector<double>& kappa_bound) {
   // (spacing_targets). The second solve's hmax is the first's within a fraction of a
   // percent (the curvature averaged over patches moves h0 little), so the search runs
   // once (on the sample CT at 45,000 particles, 10.148 against 10.160 mm).
-  if (!(thick_reach >= hmax / opt.thickness_factor)) {
-    thick_reach = hmax / opt.thickness_factor;
-    thick = thicknesses(backend, s, pool, std::vector<double>(pool.size(), 1.0), thick_reach);
-  }
+  if (!(thick_reach >= hmax / opt.thickness_factor)) measure_thickness(nullptr, hmax / opt.thickness_factor);
   for (int grow = 0; grow < 20 && count_for(hmax) > double(opt.particles); ++grow) hmax *= 2;
   double a = h0, b = hmax;
   if (count_for(b) > double(opt.particles)) a = b;
@@ -486,8 +490,7 @@ double Sampler::solve_flat_spacing(const std::vector<double>& kappa_bound) {
   // sampling gap: that would only add particles on detail the data do not hold.
   if (by_default && hh < 0.5 * gap) {
     hh = 0.5 * gap;
-    thick = thicknesses(backend, s, pool, lambda, hh / opt.thickness_factor);
-    thick_reach = 0;
+    measure_thickness(&lambda, hh / opt.thickness_factor);
   }
   return hh;
 }
