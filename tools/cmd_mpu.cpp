@@ -49,6 +49,7 @@ nlohmann::json fit_json(const mpu::FitOptions& o, const mpu::FitStats& st) {
           {"two_sheets", st.two_sheets},
           {"orthopoly_degrees", {{"2", st.degree_counts[2]}, {"3", st.degree_counts[3]}, {"4", st.degree_counts[4]}}},
           {"leaves_over_eps", st.over_eps},
+          {"leaves_kept_below_held_bound", st.kept_below_held_bound},
           {"duplicates_removed", st.duplicates_removed},
           {"max_depth_reached", st.max_depth_reached},
           {"eps_mm", st.eps},

@@ -149,6 +149,17 @@ class Fitter {
   // the ball's points along their mean normal, so f stays defined.
   void plane_fallback(const Ball& ball, Outcome& o);
   Outcome process(const Cell& c);
+  // The error above which a cell splits: eps, or kHeldSplit eps where the children's balls
+  // would be held at the smallest radius. Those are 2/3 of the cell's radius, not half,
+  // so the split lowers the error less, while the largest error over a ball's points
+  // mostly measures the points' scatter there (eps is about 3 sigma). On the sample CT
+  // the rule keeps 17,000 fewer leaves (76,900) and takes 0.25 s off the fit; the mesh's
+  // p99 distances to and from marching cubes go from 0.57 / 0.83 to 0.60 / 0.84 mm, and
+  // the phantoms' truth figures do not change (their trees stop above that level).
+  // Bounds of 3 and 4 eps gave 0.70 / 0.90 and 0.78 / 0.99 mm.
+  static constexpr double kHeldSplit = 2.0;
+  bool children_held(const Cell& c) const { return opt.alpha * 0.5 * c.size * std::sqrt(3.0) < min_radius; }
+  double split_bound(const Cell& c) const { return children_held(c) ? kHeldSplit * eps : eps; }
   // A cell from its depth and index: the centre follows from the index, as the corners do.
   Cell make_cell(int depth, const std::array<int64_t, 3>& ijk) const {
     const double size = s.box_size / double(int64_t(1) << depth);
@@ -393,7 +404,7 @@ Fitter::Outcome Fitter::process(const Cell& c) {
     const size_t stride = ball.ids.size() / kProbePoints;
     for (size_t i = 0; i < ball.ids.size(); i += stride) probe.ids.push_back(ball.ids[i]);
     Outcome p = fit_ball(c, probe, away);
-    if (p.error > eps) {
+    if (p.error > split_bound(c)) {
       p.split = true;
       return p;
     }
@@ -402,7 +413,7 @@ Fitter::Outcome Fitter::process(const Cell& c) {
   o.leaf.depth = uint8_t(c.depth);
   // A cell whose ball had to grow holds too few points of its own: its children would
   // grow to the same points, so it is not split (Ohtake et al.).
-  o.split = o.error > eps && c.depth < opt.max_depth && !grown && !at_min_radius;
+  o.split = o.error > split_bound(c) && c.depth < opt.max_depth && !grown && !at_min_radius;
   if (!o.split && !std::isfinite(o.error)) plane_fallback(ball, o);
   return o;
 }
@@ -434,6 +445,7 @@ void Fitter::fit_levels(FitStats& st, LapTimer& timer) {
         continue;
       }
       st.over_eps += out[i].error > eps;
+      st.kept_below_held_bound += out[i].error > eps && out[i].error <= split_bound(c) && c.depth < opt.max_depth;
       st.max_depth_reached = std::max(st.max_depth_reached, c.depth);
       kept.push_back(i);
     }

@@ -5,7 +5,8 @@
 // the weighted mean normal and the cell is near the points, else a general quadric with
 // auxiliary points; a cell whose Taubin error exceeds eps is split into 8, down to
 // max_depth, unless its ball had to grow (its children would only grow back to the same
-// points) or is held at min_radius (its children's balls would be as large). Cells are fitted in
+// points) or is held at min_radius (its children's balls would be as large); a cell whose
+// children's balls would be held at min_radius splits only above 2 eps. Cells are fitted in
 // parallel, one octree level at a time, and kept in a fixed order: the result does not
 // depend on the thread count.
 #pragma once
@@ -48,7 +49,10 @@ void validate(const FitOptions& o);
 
 struct FitStats {
   int64_t leaves = 0, height_orthopoly = 0, height_quadric = 0, general_quadric = 0, two_sheets = 0;
-  int64_t over_eps = 0;         // leaves at max depth still above eps
+  int64_t over_eps = 0;         // leaves still above eps
+  // Leaves above eps kept because their children's balls would be held at the smallest
+  // radius and their error is within the larger bound that applies there.
+  int64_t kept_below_held_bound = 0;
   std::array<int64_t, 5> degree_counts{};  // orthopoly leaves by degree (index = degree)
   int max_depth_reached = 0;
   int64_t duplicates_removed = 0;  // input points at exactly the position of an earlier one
