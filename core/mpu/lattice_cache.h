@@ -35,6 +35,25 @@ class LatticeCache {
     });
   }
 
+  // The value at `key` when the table holds it (and no thread is still computing it).
+  bool find(uint64_t key, double& v) const {
+    if (size_ == 0) return false;
+    const size_t mask = size_ - 1;
+    size_t at = size_t(fmix64(key)) & mask;
+    for (int probe = 0; probe < kMaxProbe; ++probe, at = (at + 1) & mask) {
+      const Slot& s = slots_[at];
+      const uint64_t k = s.key.load(std::memory_order_acquire);
+      if (k == kEmpty) return false;
+      if (k == key) {
+        const uint64_t b = s.bits.load(std::memory_order_acquire);
+        if (b == kPending) return false;
+        v = from_bits(b);
+        return true;
+      }
+    }
+    return false;
+  }
+
   // The value at `key` (any number but UINT64_MAX), computed by `compute()` on a miss.
   template <class Compute>
   double get(uint64_t key, Compute&& compute) {

