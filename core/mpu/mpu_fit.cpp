@@ -197,7 +197,12 @@ class Fitter {
   // sizes differ by powers of two). On the sample CT it answers 60,700 of the 119,400
   // corner values the fit would otherwise compute (the fit 0.03-0.05 s shorter).
   LatticeCache upper_values;
-  double corner_value(const std::array<int64_t, 3>& corner, int depth, const Eigen::Vector3d& q);
+  // `key`: the corner's key at `depth` (lattice_key with (1 << depth) + 1 a side).
+  double corner_value(const std::array<int64_t, 3>& corner, int depth, uint64_t key, const Eigen::Vector3d& q);
+  // The key of lattice point i on a lattice of `side` points per axis.
+  static uint64_t lattice_key(const std::array<int64_t, 3>& i, uint64_t side) {
+    return uint64_t(i[0]) + side * (uint64_t(i[1]) + side * uint64_t(i[2]));
+  }
   static constexpr uint64_t kHalfLattice = uint64_t(1) << 62;
 
  public:
@@ -232,17 +237,14 @@ double Fitter::aux_value(const Eigen::Vector3d& q) {
   return rs.size() > 0 && (pos == 0 || neg == 0) ? sum / double(rs.size()) : NAN;
 }
 
-double Fitter::corner_value(const std::array<int64_t, 3>& corner, int depth, const Eigen::Vector3d& q) {
+double Fitter::corner_value(const std::array<int64_t, 3>& corner, int depth, uint64_t key, const Eigen::Vector3d& q) {
   double v;
   if (depth > 0) {
     // As a half-cell lattice point of the level above: the same indices, the same keys.
-    const uint64_t side = (uint64_t(1) << depth) + 1;
-    const uint64_t key = uint64_t(corner[0]) + side * (uint64_t(corner[1]) + side * uint64_t(corner[2]));
     if (upper_values.find(key | kHalfLattice, v)) return v;
     if (corner[0] % 2 == 0 && corner[1] % 2 == 0 && corner[2] % 2 == 0) {
-      const uint64_t up = (uint64_t(1) << (depth - 1)) + 1;
-      const uint64_t k = uint64_t(corner[0] / 2) + up * (uint64_t(corner[1] / 2) + up * uint64_t(corner[2] / 2));
-      if (upper_values.find(k, v)) return v;
+      const std::array<int64_t, 3> up = {corner[0] / 2, corner[1] / 2, corner[2] / 2};
+      if (upper_values.find(lattice_key(up, (uint64_t(1) << (depth - 1)) + 1), v)) return v;
     }
   }
   return aux_value(q);
@@ -258,8 +260,7 @@ void Fitter::lattice_points(const Cell& c, std::vector<AuxPoint>& aux) {
         const std::array<int64_t, 3> h = {2 * c.ijk[0] + a, 2 * c.ijk[1] + b, 2 * c.ijk[2] + k};
         const Eigen::Vector3d q =
             s.box_min + 0.5 * c.size * Eigen::Vector3d(double(h[0]), double(h[1]), double(h[2]));
-        const uint64_t key = uint64_t(h[0]) + side * (uint64_t(h[1]) + side * uint64_t(h[2]));
-        const double v = lattice_values.get(key | kHalfLattice, [&] { return aux_value(q); });
+        const double v = lattice_values.get(lattice_key(h, side) | kHalfLattice, [&] { return aux_value(q); });
         if (!std::isnan(v)) aux.push_back({q, v});
       }
 }
@@ -273,8 +274,8 @@ std::vector<AuxPoint> Fitter::aux_points(const Cell& c, bool lattice) {
     if (k < 8) {
       const std::array<int64_t, 3> corner = {c.ijk[0] + (k & 1), c.ijk[1] + ((k >> 1) & 1), c.ijk[2] + ((k >> 2) & 1)};
       q = s.box_min + c.size * Eigen::Vector3d(double(corner[0]), double(corner[1]), double(corner[2]));
-      const uint64_t key = uint64_t(corner[0]) + side * (uint64_t(corner[1]) + side * uint64_t(corner[2]));
-      v = lattice_values.get(key, [&] { return corner_value(corner, c.depth, q); });
+      const uint64_t key = lattice_key(corner, side);
+      v = lattice_values.get(key, [&] { return corner_value(corner, c.depth, key, q); });
     } else {
       v = aux_value(q);
     }
