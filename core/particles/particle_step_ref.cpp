@@ -7,6 +7,7 @@
 
 #include "common/error.h"
 #include "particles/pair_filter.h"
+#include "particles/pair_sums.h"
 
 namespace mpumesh::particles {
 
@@ -86,6 +87,86 @@ ParticleGrids build_particle_grids(const ParticleState& st, const StepParams& p)
   return g;
 }
 
+namespace {
+
+// The particles as pair_sums reads them; `inv_s2` holds 1 / σ² of each.
+PairView pair_view(const ParticleState& st, const std::vector<double>& inv_s2, const StepParams& p) {
+  static_assert(sizeof(Eigen::Vector3d) == 3 * sizeof(double), "positions must be packed");
+  return {st.x.empty() ? nullptr : st.x[0].data(), st.sigma.data(), inv_s2.data(), p.mu, p.cutoff * p.cutoff};
+}
+
+// Particle i's new position and σ from its sums, and its energy and speed.
+void finish_particle(ParticleState& st, uint32_t i, PairTotals s, const StepParams& p,
+                     std::vector<Eigen::Vector3d>& x_new, std::vector<double>& sigma_new) {
+  const double si = st.sigma[i];
+  s.E -= 2 * p.mu;
+  const Eigen::Vector3d D = si * si * Eigen::Vector3d(s.D[0], s.D[1], s.D[2]);
+  const Eigen::Vector3d& nrm = st.normal[i];
+  const double dist = std::isfinite(st.distance[i]) ? st.distance[i] : 0.0;
+  const Eigen::Vector3d v = D - (nrm.dot(D) + p.phi * dist) * nrm;
+  // Linearly implicit Euler steps: the explicit step Δt ṗ with the paper's Δt = 0.3
+  // overshoots (Δt times the stiffness of six neighbours at equilibrium is about 3)
+  // and the particles jitter instead of settling; dividing by 1 + Δt k, k the
+  // diagonal of -∂ṗ/∂x averaged over the tangent plane, damps it and leaves Δt
+  // as it is where the stiffness is small.
+  const double k = 0.5 * si * si * s.stiff;
+  Eigen::Vector3d step = p.dt / (1 + p.dt * k) * v;
+  const double len = step.norm(), cap = p.max_move * si;
+  if (len > cap) step *= cap / len;
+  x_new[i] = st.x[i] + step;
+  // The same for σ: σ̇ = -ρ (E - Ê) / (∂E/∂σ + β), with ∂σ̇/∂σ ≈ -ρ ∂E/∂σ / (∂E/∂σ + β).
+  const double dsigma = -p.dt * p.rho * (s.E - p.desired_energy) / (s.dE + p.beta + p.dt * p.rho * s.dE);
+  sigma_new[i] = std::min(std::clamp(si + dsigma, si / p.sigma_change, si * p.sigma_change), p.sigma_cap);
+  st.energy[i] = s.E;
+  st.speed[i] = v.norm();
+}
+
+// 1 / σ² of every particle.
+std::vector<double> inverse_squares(const std::vector<double>& sigma) {
+  std::vector<double> v(sigma.size());
+  for (size_t i = 0; i < sigma.size(); ++i) v[i] = 1.0 / (sigma[i] * sigma[i]);
+  return v;
+}
+
+// A grid's particles in its order, coordinates and σ apart, for the vector filter.
+CandidateSoa candidate_soa(const ParticleGrid& g, const ParticleState& st) {
+  CandidateSoa a;
+  const size_t m = g.order.size();
+  a.x.resize(m), a.y.resize(m), a.z.resize(m), a.sigma.resize(m);
+  for (size_t k = 0; k < m; ++k) {
+    const uint32_t j = g.order[k];
+    a.x[k] = st.x[j].x(), a.y[k] = st.x[j].y(), a.z[k] = st.x[j].z(), a.sigma[k] = st.sigma[j];
+  }
+  return a;
+}
+
+// Appends to `out` every particle j of grid g (candidates `a`) in the cells within `reach`
+// of xi whose pair with i is not beyond both cutoffs, !(r² >= c2 max(si², σ_j²)), in the
+// grid's order. `kept` is scratch.
+void gather(const ParticleGrid& g, const CandidateSoa& a, const Eigen::Vector3d& xi, double si, double reach,
+            double c2, SimdLevel level, std::vector<uint32_t>& kept, std::vector<uint32_t>& out) {
+  int64_t lo[3], hi[3];
+  for (int d = 0; d < 3; ++d) {
+    const double u = (xi[d] - g.origin[d]) / g.cell, span = reach / g.cell;
+    lo[d] = std::max<int64_t>(int64_t(std::floor(u - span)), 0);
+    hi[d] = std::min<int64_t>(int64_t(std::floor(u + span)), int64_t(g.dims[size_t(d)]) - 1);
+    if (lo[d] > hi[d]) return;
+  }
+  for (int64_t z = lo[2]; z <= hi[2]; ++z)
+    for (int64_t y = lo[1]; y <= hi[1]; ++y) {
+      const int64_t row = int64_t(g.dims[0]) * (y + int64_t(g.dims[1]) * z);
+      const uint32_t k0 = g.start[size_t(row + lo[0])], k1 = g.start[size_t(row + hi[0] + 1)];
+      // Most candidates (about 200 a particle on the sample CT, 9 of them kept) lie
+      // beyond both cutoffs; the filter drops them, 8 at a time, before the
+      // exponentials (pair_filter.h). (`kept` only grows: no zeros written per row.)
+      if (kept.size() < k1 - k0 + 8) kept.resize(k1 - k0 + 8);
+      const uint32_t m = pairs_within(a, k0, k1, xi.data(), si * si, c2, kept.data(), level);
+      for (uint32_t t = 0; t < m; ++t) out.push_back(g.order[kept[t]]);
+    }
+}
+
+}  // namespace
+
 void repulsion_step(ParticleState& st, const ParticleGrids& grids, const StepParams& p,
                     std::vector<Eigen::Vector3d>& x_new, std::vector<double>& sigma_new) {
   const size_t n = st.size();
@@ -98,88 +179,21 @@ void repulsion_step(ParticleState& st, const ParticleGrids& grids, const StepPar
   std::vector<uint32_t> visit(grids.small.order);
   visit.insert(visit.end(), grids.large.order.begin(), grids.large.order.end());
   MPUMESH_ASSERT(visit.size() == n, "particle grids must hold every particle once");
-  // Each grid's candidates in its order, coordinates apart, for the vector filter.
-  auto soa = [&](const ParticleGrid& g) {
-    CandidateSoa a;
-    const size_t m = g.order.size();
-    a.x.resize(m), a.y.resize(m), a.z.resize(m), a.sigma.resize(m);
-    for (size_t k = 0; k < m; ++k) {
-      const uint32_t j = g.order[k];
-      a.x[k] = st.x[j].x(), a.y[k] = st.x[j].y(), a.z[k] = st.x[j].z(), a.sigma[k] = st.sigma[j];
-    }
-    return a;
-  };
-  const CandidateSoa small = soa(grids.small), large = soa(grids.large);
+  const CandidateSoa small = candidate_soa(grids.small, st), large = candidate_soa(grids.large, st);
+  const std::vector<double> inv_s2 = inverse_squares(st.sigma);
+  const PairView view = pair_view(st, inv_s2, p);
   const SimdLevel level = simd_level();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
-    thread_local std::vector<uint32_t> kept;
+    thread_local std::vector<uint32_t> kept, pairs;
     for (size_t o = r.begin(); o != r.end(); ++o) {
       const uint32_t i = visit[o];
-      const Eigen::Vector3d xi = st.x[i];
-      const double si = st.sigma[i], inv_si2 = 1.0 / (si * si);
-      double E = 0, dE = 0, Dx = 0, Dy = 0, Dz = 0, stiff = 0;
-      // Every j within `reach` of x_i in grid g.
-      auto gather = [&](const ParticleGrid& g, const CandidateSoa& a, double reach) {
-        int64_t lo[3], hi[3];
-        for (int d = 0; d < 3; ++d) {
-          const double u = (xi[d] - g.origin[d]) / g.cell, span = reach / g.cell;
-          lo[d] = std::max<int64_t>(int64_t(std::floor(u - span)), 0);
-          hi[d] = std::min<int64_t>(int64_t(std::floor(u + span)), int64_t(g.dims[size_t(d)]) - 1);
-          if (lo[d] > hi[d]) return;
-        }
-        for (int64_t z = lo[2]; z <= hi[2]; ++z)
-          for (int64_t y = lo[1]; y <= hi[1]; ++y) {
-            const int64_t row = int64_t(g.dims[0]) * (y + int64_t(g.dims[1]) * z);
-            const uint32_t k0 = g.start[size_t(row + lo[0])], k1 = g.start[size_t(row + hi[0] + 1)];
-            // Most candidates (about 200 a particle on the sample CT, 9 of them kept) lie
-            // beyond both cutoffs; the filter drops them, 8 at a time, before the
-            // exponentials (pair_filter.h).
-            kept.resize(k1 - k0 + 8);
-            const uint32_t m = pairs_within(a, k0, k1, xi.data(), si * si, c2, kept.data(), level);
-            for (uint32_t t = 0; t < m; ++t) {
-              const uint32_t j = g.order[kept[t]];
-              const double sj = st.sigma[j], inv_sj2 = 1.0 / (sj * sj);
-              const double rx = xi.x() - st.x[j].x(), ry = xi.y() - st.x[j].y(), rz = xi.z() - st.x[j].z();
-              const double r2 = rx * rx + ry * ry + rz * rz;
-              // Each term cut at its own particle's cutoff; j == i gives r = 0 and adds
-              // 2μ to E, which is taken off below (branchless here).
-              const double eij = r2 < c2 * si * si ? p.mu * std::exp(-0.5 * r2 * inv_si2) : 0.0;
-              const double eji = r2 < c2 * sj * sj ? p.mu * std::exp(-0.5 * r2 * inv_sj2) : 0.0;
-              E += eij + eji;
-              dE += r2 * inv_si2 / si * eij;
-              const double a = eij * inv_si2 + eji * inv_sj2;
-              Dx += rx * a;
-              Dy += ry * a;
-              Dz += rz * a;
-              // -∂(r a)/∂r along r: the pair's radial stiffness (positive beyond r = σ).
-              stiff += std::max(r2 * (eij * inv_si2 * inv_si2 + eji * inv_sj2 * inv_sj2) - a, 0.0);
-            }
-          }
-      };
+      const double si = st.sigma[i];
+      pairs.clear();
       // A small j interacts within cutoff·max(σ_i, σ_split), a large one within its own
       // cutoff·σ_j, which the large grid's cells cover.
-      gather(grids.small, small, p.cutoff * std::max(si, grids.sigma_split));
-      gather(grids.large, large, grids.large.cell);
-      E -= 2 * p.mu;
-      const Eigen::Vector3d D = si * si * Eigen::Vector3d(Dx, Dy, Dz);
-      const Eigen::Vector3d& nrm = st.normal[i];
-      const double dist = std::isfinite(st.distance[i]) ? st.distance[i] : 0.0;
-      const Eigen::Vector3d v = D - (nrm.dot(D) + p.phi * dist) * nrm;
-      // Linearly implicit Euler steps: the explicit step Δt ṗ with the paper's Δt = 0.3
-      // overshoots (Δt times the stiffness of six neighbours at equilibrium is about 3)
-      // and the particles jitter instead of settling; dividing by 1 + Δt k, k the
-      // diagonal of -∂ṗ/∂x averaged over the tangent plane, damps it and leaves Δt
-      // as it is where the stiffness is small.
-      const double k = 0.5 * si * si * stiff;
-      Eigen::Vector3d step = p.dt / (1 + p.dt * k) * v;
-      const double len = step.norm(), cap = p.max_move * si;
-      if (len > cap) step *= cap / len;
-      x_new[i] = xi + step;
-      // The same for σ: σ̇ = -ρ (E - Ê) / (∂E/∂σ + β), with ∂σ̇/∂σ ≈ -ρ ∂E/∂σ / (∂E/∂σ + β).
-      const double dsigma = -p.dt * p.rho * (E - p.desired_energy) / (dE + p.beta + p.dt * p.rho * dE);
-      sigma_new[i] = std::min(std::clamp(si + dsigma, si / p.sigma_change, si * p.sigma_change), p.sigma_cap);
-      st.energy[i] = E;
-      st.speed[i] = v.norm();
+      gather(grids.small, small, st.x[i], si, p.cutoff * std::max(si, grids.sigma_split), c2, level, kept, pairs);
+      gather(grids.large, large, st.x[i], si, grids.large.cell, c2, level, kept, pairs);
+      finish_particle(st, i, pair_sums(view, i, pairs.data(), uint32_t(pairs.size()), level), p, x_new, sigma_new);
     }
   });
 }
