@@ -1,8 +1,8 @@
 // The vector instruction set the CPU path's hand-vectorised kernels use (the MPU
 // evaluation, core/mpu/mpu_eval_simd.h; the repulsion's neighbour filter and pair sums,
 // core/particles/pair_filter.h and pair_sums.h): the widest this CPU supports, or the
-// one MPUMESH_SIMD names (generic, avx2, avx512) when that is supported. Every level gives the same bytes
-// as the generic code; the levels differ in speed only.
+// one MPUMESH_SIMD names (generic, avx2, avx512) when that is supported. Every level
+// gives the same bytes as the generic code; the levels differ in speed only.
 #pragma once
 
 // Where the AVX2 and AVX-512 kernels are built (x86-64, GCC or clang target attributes);

@@ -99,7 +99,8 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) PairTotals pair_sums_avx512
     const __m512d sj = _mm512_mask_i32gather_pd(zero, valid, j, v.sigma, 8);
     const __m512d isj = _mm512_mask_i32gather_pd(zero, valid, j, v.inv_s2, 8);
     const __m512d rx = _mm512_sub_pd(qx, xj), ry = _mm512_sub_pd(qy, yj), rz = _mm512_sub_pd(qz, zj);
-    const __m512d r2 = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(rx, rx), _mm512_mul_pd(ry, ry)), _mm512_mul_pd(rz, rz));
+    const __m512d r2 =
+        _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(rx, rx), _mm512_mul_pd(ry, ry)), _mm512_mul_pd(rz, rz));
     const __m512d h = _mm512_mul_pd(half, r2);
     const __mmask8 in_i = _mm512_cmp_pd_mask(r2, c2si2, _CMP_LT_OQ);
     const __mmask8 in_j = _mm512_cmp_pd_mask(r2, _mm512_mul_pd(_mm512_mul_pd(c2, sj), sj), _CMP_LT_OQ);
@@ -111,7 +112,8 @@ __attribute__((target("avx512f,avx512vl,avx512dq"))) PairTotals pair_sums_avx512
     Dx = _mm512_mask_add_pd(Dx, valid, Dx, _mm512_mul_pd(rx, a));
     Dy = _mm512_mask_add_pd(Dy, valid, Dy, _mm512_mul_pd(ry, a));
     Dz = _mm512_mask_add_pd(Dz, valid, Dz, _mm512_mul_pd(rz, a));
-    const __m512d w = _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(eij, isi), isi), _mm512_mul_pd(_mm512_mul_pd(eji, isj), isj));
+    const __m512d w =
+        _mm512_add_pd(_mm512_mul_pd(_mm512_mul_pd(eij, isi), isi), _mm512_mul_pd(_mm512_mul_pd(eji, isj), isj));
     const __m512d s = _mm512_sub_pd(_mm512_mul_pd(r2, w), a);
     const __m512d s0 = _mm512_mask_blend_pd(_mm512_cmp_pd_mask(s, zero, _CMP_LT_OQ), s, zero);
     St = _mm512_mask_add_pd(St, valid, St, s0);
@@ -169,7 +171,8 @@ __attribute__((target("avx2"))) void add_four_avx2(const PairView& v, const __m2
   s.Dx = _mm256_blendv_pd(s.Dx, _mm256_add_pd(s.Dx, _mm256_mul_pd(rx, a)), valid);
   s.Dy = _mm256_blendv_pd(s.Dy, _mm256_add_pd(s.Dy, _mm256_mul_pd(ry, a)), valid);
   s.Dz = _mm256_blendv_pd(s.Dz, _mm256_add_pd(s.Dz, _mm256_mul_pd(rz, a)), valid);
-  const __m256d w = _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(eij, isi), isi), _mm256_mul_pd(_mm256_mul_pd(eji, isj), isj));
+  const __m256d w =
+      _mm256_add_pd(_mm256_mul_pd(_mm256_mul_pd(eij, isi), isi), _mm256_mul_pd(_mm256_mul_pd(eji, isj), isj));
   const __m256d st = _mm256_sub_pd(_mm256_mul_pd(r2, w), a);
   const __m256d st0 = _mm256_blendv_pd(st, zero, _mm256_cmp_pd(st, zero, _CMP_LT_OQ));
   s.St = _mm256_blendv_pd(s.St, _mm256_add_pd(s.St, st0), valid);
@@ -197,7 +200,8 @@ __attribute__((target("avx2"))) PairTotals pair_sums_avx2(const PairView& v, uin
     for (uint32_t k = 0; k < uint32_t(kLanes); ++k) idx[k] = t + k < m ? jj[t + k] : i;
     const __m256i left = _mm256_set1_epi64x(int64_t(m - t));
     const __m256d valid_lo = _mm256_castsi256_pd(_mm256_cmpgt_epi64(left, lane));
-    const __m256d valid_hi = _mm256_castsi256_pd(_mm256_cmpgt_epi64(left, _mm256_add_epi64(lane, _mm256_set1_epi64x(4))));
+    const __m256i lane_hi = _mm256_add_epi64(lane, _mm256_set1_epi64x(4));
+    const __m256d valid_hi = _mm256_castsi256_pd(_mm256_cmpgt_epi64(left, lane_hi));
     add_four_avx2(v, q, si, isi, c2si2, _mm_loadu_si128(reinterpret_cast<const __m128i*>(idx)), valid_lo, lo);
     add_four_avx2(v, q, si, isi, c2si2, _mm_loadu_si128(reinterpret_cast<const __m128i*>(idx + 4)), valid_hi, hi);
   }
