@@ -1,5 +1,6 @@
 #include "segment/distance_transform.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <limits>
 
@@ -49,6 +50,32 @@ void transform_1d(double* f, int64_t n, int64_t stride, double w, std::vector<do
   for (int64_t q = 0; q < n; ++q) f[q * stride] = d[size_t(q)];
 }
 
+// The rows' pass on the binary image: along each row, the squared distance to the nearest
+// target pixel (+infinity in a row without one). The lower envelope of the 1D transform
+// gives that too for 0 / infinity samples, but through a division per site; the nearest
+// sites either side, found in two scans, give it without one (on the sample CT the cap
+// points' transforms take about 0.17 s of CPU, and the points stage 0.015 s less wall
+// time this way). The value is the same expression of the same site; where two are
+// equally near, the smaller of the two roundings.
+void binary_rows(const uint8_t* mask, int64_t nx, int64_t ny, uint8_t target, double w, double* f) {
+  for (int64_t j = 0; j < ny; ++j) {
+    const uint8_t* m = mask + nx * j;
+    double* row = f + nx * j;
+    int64_t last = -1;
+    for (int64_t q = 0; q < nx; ++q) {
+      if (m[q] == target) last = q;
+      row[q] = last < 0 ? kInf : (w * double(q) - w * double(last)) * (w * double(q) - w * double(last));
+    }
+    last = -1;
+    for (int64_t q = nx; q-- > 0;) {
+      if (m[q] == target) last = q;
+      if (last < 0) continue;
+      const double d = (w * double(q) - w * double(last)) * (w * double(q) - w * double(last));
+      if (d < row[q]) row[q] = d;
+    }
+  }
+}
+
 }  // namespace
 
 void squared_distance_2d(const uint8_t* mask, int64_t nx, int64_t ny, uint8_t target, double wx, double wy,
@@ -59,16 +86,11 @@ void squared_distance_2d(const uint8_t* mask, int64_t nx, int64_t ny, uint8_t ta
   thread_local std::vector<int64_t> v;
   f.resize(size_t(nx * ny));
   out.resize(size_t(nx * ny));
-  bool any = false;
-  for (int64_t p = 0; p < nx * ny; ++p) {
-    f[size_t(p)] = mask[p] == target ? 0.0 : kInf;
-    any |= mask[p] == target;
-  }
-  if (!any) {
+  if (std::find(mask, mask + nx * ny, target) == mask + nx * ny) {
     std::fill(out.begin(), out.end(), float(kInf));
     return;
   }
-  for (int64_t j = 0; j < ny; ++j) transform_1d(f.data() + nx * j, nx, 1, wx, d, v, z);
+  binary_rows(mask, nx, ny, target, wx, f.data());
   for (int64_t i = 0; i < nx; ++i) transform_1d(f.data() + i, ny, nx, wy, d, v, z);
   for (size_t p = 0; p < out.size(); ++p) out[p] = float(f[p]);
 }
