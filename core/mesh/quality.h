@@ -47,5 +47,9 @@ std::string quality_to_text(const Quality& q);
 // equilateral triangle, 0 for a degenerate one).
 double triangle_min_angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 double triangle_radius_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+// triangle_min_angle_deg(a, b, c) < deg, the same answer, with the arc tangents only for
+// triangles whose largest cosine comes near cos(deg).
+bool triangle_min_angle_below(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                              double deg);
 
 }  // namespace mpumesh

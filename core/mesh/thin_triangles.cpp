@@ -18,20 +18,9 @@ double min_angle(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
   return triangle_min_angle_deg(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]);
 }
 
-// min_angle(m, t) < deg, with the three arc tangents only for triangles whose largest
-// cosine comes near cos(deg): the scans over every triangle (each collapse and flip pass,
-// the sample CT's 100,000) spent most of their time in atan2.
+// min_angle(m, t) < deg (triangle_min_angle_below).
 bool below(const TriangleMesh& m, const std::array<uint32_t, 3>& t, double deg) {
-  const Eigen::Vector3d &a = m.vertices[t[0]], &b = m.vertices[t[1]], &c = m.vertices[t[2]];
-  const Eigen::Vector3d ab = b - a, bc = c - b, ca = a - c;
-  const double lab = ab.squaredNorm(), lbc = bc.squaredNorm(), lca = ca.squaredNorm();
-  // cos of the angles at a, b, c; an angle is below deg when its cosine is above cos(deg).
-  const double den_a = std::sqrt(lab * lca), den_b = std::sqrt(lab * lbc), den_c = std::sqrt(lbc * lca);
-  const double cmax = std::max({-ab.dot(ca) / den_a, -ab.dot(bc) / den_b, -bc.dot(ca) / den_c});
-  // 1e-6 of margin in the cosine (about 0.0002 deg at 20 deg) covers the rounding of both
-  // forms; a degenerate triangle (NaN) goes to the exact test.
-  if (cmax < std::cos(deg * M_PI / 180) - 1e-6) return false;
-  return min_angle(m, t) < deg;
+  return triangle_min_angle_below(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], deg);
 }
 
 // One pass of collapses; returns how many.

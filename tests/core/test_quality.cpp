@@ -191,6 +191,33 @@ TEST(Quality, MinAngleIsTheSmallestOfAllThreeBitForBit) {
   EXPECT_EQ(checked, 20000);
 }
 
+// The cosine pre-test gives the answer of the angle itself: on random triangles, on
+// triangles built with an angle within 1e-9 to 1e-15 degrees of the bound, and on
+// degenerate ones.
+TEST(Quality, MinAngleBelowAgreesWithTheAngle) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-10, 10);
+  auto point = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  int near_bound = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const double deg = i % 3 == 0 ? 20.0 : i % 3 == 1 ? 25.0 : 30.0;
+    const Eigen::Vector3d a = point(), b = point();
+    Eigen::Vector3d c = point();
+    if (i % 2) {  // the angle at a set to deg, give or take 1e-9 to 1e-15 degrees
+      const Eigen::Vector3d e = (b - a).normalized(), n = e.cross(c - a).normalized(), side = n.cross(e);
+      const double angle = (deg + (i % 4 == 1 ? 1 : -1) * std::pow(10.0, -9 - i % 7)) * std::numbers::pi / 180;
+      c = a + (b - a).norm() * (std::cos(angle) * e + std::sin(angle) * side);  // isosceles: the smallest
+      near_bound += std::abs(triangle_min_angle_deg(a, b, c) - deg) < 1e-6;
+    }
+    EXPECT_EQ(triangle_min_angle_below(a, b, c, deg), triangle_min_angle_deg(a, b, c) < deg) << i;
+  }
+  EXPECT_GT(near_bound, 5000);
+  const Eigen::Vector3d p(1, 2, 3), q(4, 5, 6);
+  EXPECT_EQ(triangle_min_angle_below(p, p, q, 30), triangle_min_angle_deg(p, p, q) < 30);
+  EXPECT_EQ(triangle_min_angle_below(p, q, 0.5 * (p + q), 30), triangle_min_angle_deg(p, q, 0.5 * (p + q)) < 30);
+  EXPECT_EQ(triangle_min_angle_below(p, p, p, 30), triangle_min_angle_deg(p, p, p) < 30);
+}
+
 TEST(Quality, TorusGenusOne) {
   // A coarse torus: 8 x 6 quads, each split into two triangles.
   TriangleMesh m;
