@@ -114,14 +114,14 @@ class Fitter {
     eps = opt.eps > 0 ? opt.eps : 0.25 * median_spacing(cloud.positions, tree);
     // The median distance to the 12th nearest point (about the largest sampling gap), when
     // the smallest radius or the slope length needs it.
-    const double gap12 = opt.min_radius < 0 || opt.fit_normals ? median_spacing(cloud.positions, tree, 12) : 0.0;
+    gap12 = opt.min_radius < 0 || opt.fit_normals ? median_spacing(cloud.positions, tree, 12) : 0.0;
     min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * gap12;
     slope_length = opt.fit_normals ? 0.25 * gap12 : 0.0;
   }
   // The octree, level by level from the root: each cell fitted in parallel, split where
   // its fit is off by more than eps. Fills the surface's leaves and `st`'s level figures.
   void fit_levels(FitStats& st, LapTimer& timer);
-  double eps = 0, min_radius = 0, slope_length = 0;
+  double eps = 0, min_radius = 0, slope_length = 0, gap12 = 0;
 
  private:
   struct Outcome {
@@ -571,6 +571,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   FitStats st;
   st.eps = fitter.eps;
   st.min_radius = fitter.min_radius;
+  st.gap12 = fitter.gap12;
   LapTimer timer(t0);
   st.seconds_setup = timer.lap();
   fitter.fit_levels(st, timer);

@@ -75,6 +75,9 @@ struct SampleOptions {
   double spacing_grade = 0.3;
   uint32_t seed = 1;
   int64_t max_particles = 0;    // cap on the population; 0 = 1.05 x the count the targets ask for
+  // The candidates' median distance to their 12th nearest (median_spacing with the
+  // candidate index), when the caller has measured it; 0: measured here.
+  double candidate_gap = 0;
   StepParams step;
 };
 

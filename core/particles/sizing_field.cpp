@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/error.h"
 #include "common/kd_tree.h"
 #include "common/neighbour_grid.h"
 
@@ -43,23 +44,42 @@ SizingField::SizingField(const std::vector<Eigen::Vector3d>& x, const std::vecto
       value_(std::move(value)),
       tree_(given_or_built(index, x, own_index_)) {}
 
-double SizingField::at(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
-  uint32_t idx[kNeighbours];
-  double d2[kNeighbours];
+size_t SizingField::nearest(const Eigen::Vector3d& p, uint32_t idx[kNeighbours], double d2[kNeighbours]) const {
   nanoflann::KNNResultSet<double, uint32_t> rs(kNeighbours);
   rs.init(idx, d2);
   tree_.findNeighbors(rs, p.data(), nanoflann::SearchParams());
+  return rs.size();
+}
+
+double SizingField::mean(const std::vector<double>& value, const Eigen::Vector3d& n, const uint32_t* idx,
+                         const double* d2, size_t count) const {
   double w = 0, sum = 0, w_any = 0, sum_any = 0;
-  for (size_t k = 0; k < rs.size(); ++k) {
+  for (size_t k = 0; k < count; ++k) {
     const double wk = 1.0 / (d2[k] + 1e-12);
     w_any += wk;
-    sum_any += wk * value_[idx[k]];
+    sum_any += wk * value[idx[k]];
     if (normal_[idx[k]].dot(n) > 0) {
       w += wk;
-      sum += wk * value_[idx[k]];
+      sum += wk * value[idx[k]];
     }
   }
   return w > 0 ? sum / w : sum_any / w_any;
+}
+
+double SizingField::at(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const {
+  uint32_t idx[kNeighbours];
+  double d2[kNeighbours];
+  const size_t count = nearest(p, idx, d2);
+  return mean(value_, n, idx, d2, count);
+}
+
+std::pair<double, double> SizingField::at_with(const SizingField& other, const Eigen::Vector3d& p,
+                                               const Eigen::Vector3d& n) const {
+  MPUMESH_ASSERT(&other.tree_ == &tree_ && &other.normal_ == &normal_, "SizingField::at_with: not the same points");
+  uint32_t idx[kNeighbours];
+  double d2[kNeighbours];
+  const size_t count = nearest(p, idx, d2);
+  return {mean(value_, n, idx, d2, count), mean(other.value_, n, idx, d2, count)};
 }
 
 }  // namespace mpumesh::particles

@@ -22,6 +22,7 @@
 
 #include <Eigen/Dense>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "common/kd_tree.h"
@@ -46,8 +47,17 @@ class SizingField {
   SizingField(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& normal,
               std::vector<double> value, const KdTree* index = nullptr);
   double at(const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
+  // at(p, n) of this field and of `other`, a field over the same points and tree, from one
+  // search: the same two values.
+  std::pair<double, double> at_with(const SizingField& other, const Eigen::Vector3d& p, const Eigen::Vector3d& n) const;
 
  private:
+  // The kNeighbours nearest points' ids and squared distances; returns how many.
+  size_t nearest(const Eigen::Vector3d& p, uint32_t idx[kNeighbours], double d2[kNeighbours]) const;
+  // The mean of `value` over those neighbours (see at).
+  double mean(const std::vector<double>& value, const Eigen::Vector3d& n, const uint32_t* idx, const double* d2,
+              size_t count) const;
+
   const std::vector<Eigen::Vector3d>& x_;
   const std::vector<Eigen::Vector3d>& normal_;
   std::vector<double> value_;

@@ -75,5 +75,25 @@ TEST(SizingField, InterpolatesBetweenItsPoints) {
   EXPECT_NEAR(field.at({0.25, 0.25, 0}, {0, 0, 1}), 1.025, 0.01);
 }
 
+// Two fields over the same points and tree read from one search: each value is the one
+// its own field gives, bit for bit, at random places and normals.
+TEST(SizingField, TwoFieldsFromOneSearchGiveTheirOwnValues) {
+  std::vector<Eigen::Vector3d> x, n;
+  add_plane(0.5, 1, x, n);
+  add_plane(0, -1, x, n);
+  std::vector<double> a(x.size()), b(x.size());
+  for (size_t i = 0; i < x.size(); ++i) a[i] = 1 + 0.1 * x[i].x() + 0.3 * x[i].z(), b[i] = std::sin(double(i));
+  const PointIndex index(x);
+  const SizingField fa(x, n, a, &index.tree), fb(x, n, b, &index.tree);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 3);
+  for (int k = 0; k < 500; ++k) {
+    const Eigen::Vector3d p(u(rng), u(rng), 0.25 * u(rng)), nq = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    const auto [va, vb] = fa.at_with(fb, p, nq);
+    EXPECT_EQ(va, fa.at(p, nq)) << k;
+    EXPECT_EQ(vb, fb.at(p, nq)) << k;
+  }
+}
+
 }  // namespace
 }  // namespace mpumesh::particles
