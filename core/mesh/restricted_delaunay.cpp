@@ -128,7 +128,7 @@ void evaluate_new_cells(const mpu::MpuSurface& s, Dt& dt, std::vector<char>& tou
   if (inserted) {
     std::vector<Cell> around;
     for (const Dt::Vertex_handle& v : *inserted) dt.finite_incident_cells(v, std::back_inserter(around));
-    std::sort(around.begin(), around.end());
+    tbb::parallel_sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
     for (Cell c : around)
       if (std::isnan(c->info().f)) todo.push_back(c);
