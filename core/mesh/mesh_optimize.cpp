@@ -173,8 +173,9 @@ std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces
   const auto& x = m.vertices;
   const auto [f1, f2, a, b, c, d] = q;
   const Tri &t1 = T[f1], &t2 = T[f2];
-  if (clearly_delaunay(x[a], x[b], x[c], x[d]) || angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9)
-    return std::nullopt;  // Delaunay already
+  const bool delaunay_already = clearly_delaunay(x[a], x[b], x[c], x[d]) ||
+                                angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9;
+  if (delaunay_already) return std::nullopt;
   if (!q.may_flip(edges, frozen)) return std::nullopt;
   const Tri n1 = q.flipped1(), n2 = q.flipped2();
   const Eigen::Vector3d o = (area_normal(x, t1).normalized() + area_normal(x, t2).normalized());
