@@ -58,7 +58,7 @@ struct FitStats {
   int64_t duplicates_removed = 0;  // input points at exactly the position of an earlier one
   double eps = 0, min_radius = 0, seconds = 0;
   // The distinct points' median distance to their 12th nearest (median_spacing), when the
-  // smallest radius came from it; else 0.
+  // smallest radius or the slope length came from it; else 0.
   double gap12 = 0;
   // Of which: duplicates, k-d tree and spacing; each octree level (index = depth); the
   // lookup grid.
