@@ -13,8 +13,11 @@
 // round are the ones measured; ours is the same mesh every round, Mesh_3's differs a
 // little): the times are the medians, and each round's ratio is printed too, since this
 // machine's speed drifts within minutes and one round's ratio can be off by a third.
+// EPS (mm) sets our fit's error bound, as `mpumesh run --eps` does; absent or 0, the
+// noise-aware tolerance that the product uses by default (the time a coarser fit saves,
+// measured against the fidelity it costs).
 // Usage:
-//   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS]
+//   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] [EPS]
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -70,7 +73,7 @@ int main(int argc, char** argv) {
   tune_memory();  // as mpumesh does; the peers run in this process too
   if (argc < 2) {
     std::fprintf(stderr,
-                 "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS]\n",
+                 "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] [EPS]\n",
                  argv[0]);
     return 2;
   }
@@ -82,6 +85,7 @@ int main(int argc, char** argv) {
   if (argc > 4) m3.facet_size = std::stod(argv[4]);
   if (argc > 5) m3.facet_distance = std::stod(argv[5]);
   const int rounds = argc > 7 ? std::max(1, std::stoi(argv[7])) : 1;
+  const double eps = argc > 8 ? std::stod(argv[8]) : 0.0;  // 0: the noise-aware tolerance
 
   auto t = Clock::now();
   const Volume vol = read_volume(path);  // for the peers
@@ -104,6 +108,7 @@ int main(int argc, char** argv) {
   ro.segment.method = seg::Method::kThreshold;  // --threshold alone
   ro.segment.threshold = mc::ThresholdRange{iso};
   ro.sample.particles = particles;  // 0: the product's default
+  ro.fit.eps = eps;
   ro.quality = false;               // --quiet and no report
   StageTimes times;
   auto run_ours = [&](StageTimes& st, double& seconds) {
@@ -118,9 +123,11 @@ int main(int argc, char** argv) {
   const TriangleMesh& ours = run.mesh;
   const mpu::MpuSurface& surf = run.surface;
   const double t_seg = times.at("segment"), t_points = times.at("points"), t_fit = times.at("fit");
-  std::printf("ours: read %.2f s, segment %.2f s, points %.2f s (%zu), fit %.2f s (%zu leaves), particles %.2f s "
-              "(%lld, %d iterations, %s), triangulate %.2f s (%lld repair points, %zu count raises): %.2f s\n",
-              times.at("read volume"), t_seg, t_points, run.points, t_fit, surf.leaves.size(), times.at("particles"),
+  std::printf("ours: read %.2f s, segment %.2f s, points %.2f s (%zu), fit %.2f s (%zu leaves, eps %.3f mm%s), "
+              "particles %.2f s (%lld, %d iterations, %s), triangulate %.2f s (%lld repair points, %zu count raises): "
+              "%.2f s\n",
+              times.at("read volume"), t_seg, t_points, run.points, t_fit, surf.leaves.size(), run.fit.eps,
+              eps > 0 ? ", given" : "", times.at("particles"),
               (long long)run.sample.particles, run.sample.iterations, run.sample.converged ? "settled" : "at the cap",
               times.at("triangulate"), (long long)run.triangulation.repair_points, run.raises.size(), t_ours_first);
 
