@@ -13,9 +13,9 @@
 // round are the ones measured; ours is the same mesh every round, Mesh_3's differs a
 // little): the times are the medians, and each round's ratio is printed too, since this
 // machine's speed drifts within minutes and one round's ratio can be off by a third.
-// EPS (mm) sets our fit's error bound, as `mpumesh run --eps` does; absent or 0, the
-// noise-aware tolerance that the product uses by default (the time a coarser fit saves,
-// measured against the fidelity it costs).
+// EPS (mm) sets our fit's error bound, as `mpumesh run --eps` does; absent or 0, ours
+// takes the noise-aware tolerance, as the product does by default. (With it, the time a
+// coarser fit saves is measured against the fidelity it costs.)
 // Usage:
 //   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] [EPS]
 #include <fmt/format.h>
