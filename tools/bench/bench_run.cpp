@@ -73,7 +73,8 @@ int main(int argc, char** argv) {
   tune_memory();  // as mpumesh does; the peers run in this process too
   if (argc < 2) {
     std::fprintf(stderr,
-                 "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] [EPS]\n",
+                 "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] "
+                 "[EPS]\n",
                  argv[0]);
     return 2;
   }
