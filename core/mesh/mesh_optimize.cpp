@@ -16,6 +16,8 @@
 #include "geometry/drop_unused.h"
 #include "geometry/tet_mesh.h"
 #include "geometry/vertex_faces.h"
+#include "mesh/edge_edit.h"
+#include "mesh/edge_faces.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
 #include "mpu/mpu_eval_ref.h"
@@ -23,8 +25,6 @@
 
 namespace mpumesh {
 namespace {
-
-using Tri = std::array<uint32_t, 3>;
 
 Eigen::Vector3d area_normal(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
   return (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
@@ -56,101 +56,20 @@ std::vector<double> surface_distances(const mpu::MpuSurface& s, ComputeBackend& 
   return d;
 }
 
-// Each edge's two faces (the second UINT32_MAX on a border; where more than two meet, the
-// first and the last by index), its edges in ascending key order, and a flat hash index
-// for the lookups. (In place of a std::unordered_map, whose node per edge cost more in
-// allocation and freeing than its lookups: on the sample CT at 45,000 particles the
-// optimisation went from 0.64 to 0.51 s.)
-class EdgeFaces {
- public:
-  explicit EdgeFaces(const std::vector<Tri>& T) {
-    std::vector<std::pair<uint64_t, uint32_t>> ef;  // (edge, face)
-    ef.reserve(3 * T.size());
-    for (uint32_t f = 0; f < T.size(); ++f)
-      for (int k = 0; k < 3; ++k) ef.emplace_back(edge_key(T[f][size_t(k)], T[f][size_t((k + 1) % 3)]), f);
-    tbb::parallel_sort(ef.begin(), ef.end());  // distinct pairs: one order
-    for (size_t a = 0, b; a < ef.size(); a = b) {
-      for (b = a + 1; b < ef.size() && ef[b].first == ef[a].first;) ++b;
-      keys_.push_back(ef[a].first);
-      faces_.push_back({ef[a].second, b - a > 1 ? ef[b - 1].second : UINT32_MAX});
-    }
-    size_t slots = 16;
-    while (slots < 2 * keys_.size()) slots *= 2;
-    mask_ = slots - 1;
-    index_.assign(slots, UINT32_MAX);
-    for (uint32_t i = 0; i < keys_.size(); ++i) {
-      size_t at = slot(keys_[i]);
-      while (index_[at] != UINT32_MAX) at = (at + 1) & mask_;
-      index_[at] = i;
-    }
-  }
-  // The edges' keys, ascending.
-  const std::vector<uint64_t>& keys() const { return keys_; }
-  bool count(uint64_t key) const { return find(key) != UINT32_MAX; }
-  const std::pair<uint32_t, uint32_t>& at(uint64_t key) const {
-    const uint32_t i = find(key);
-    MPUMESH_ASSERT(i != UINT32_MAX, "EdgeFaces: no such edge");
-    return faces_[i];
-  }
-
- private:
-  size_t slot(uint64_t key) const { return size_t(fmix64(key)) & mask_; }
-  uint32_t find(uint64_t key) const {
-    for (size_t at = slot(key);; at = (at + 1) & mask_)
-      if (index_[at] == UINT32_MAX || keys_[index_[at]] == key) return index_[at];
-  }
-  std::vector<uint64_t> keys_;
-  std::vector<std::pair<uint32_t, uint32_t>> faces_;
-  std::vector<uint32_t> index_;
-  size_t mask_ = 0;
-};
-
-// The two faces of the edge `key` and its quad: f1 = abc holds the edge as a -> b, f2 =
-// bad as b -> a. None on a border, or where c and d are one vertex. Flipped, ab becomes
-// cd and the faces adc and bcd.
-struct EdgeQuad {
-  uint32_t f1, f2, a, b, c, d;
-  Tri flipped1() const { return {a, d, c}; }
-  Tri flipped2() const { return {b, c, d}; }
-  // None of its vertices frozen, and cd no edge yet (the flip keeps the mesh a manifold).
-  bool may_flip(const EdgeFaces& edges, const std::vector<char>& frozen) const {
-    return !frozen[a] && !frozen[b] && !frozen[c] && !frozen[d] && !edges.count(edge_key(c, d));
-  }
-};
-std::optional<EdgeQuad> edge_quad(const std::vector<Tri>& T, const EdgeFaces& edges, uint64_t key) {
-  const auto [f1, f2] = edges.at(key);
-  if (f2 == UINT32_MAX) return std::nullopt;
-  const Tri& t1 = T[f1];
-  int k = 0;
-  while (edge_key(t1[size_t(k)], t1[size_t((k + 1) % 3)]) != key) ++k;
-  const uint32_t a = t1[size_t(k)], b = t1[size_t((k + 1) % 3)], c = t1[size_t((k + 2) % 3)];
-  uint32_t d = UINT32_MAX;
-  for (uint32_t v : T[f2])
-    if (v != a && v != b) d = v;
-  if (d == UINT32_MAX || c == d) return std::nullopt;
-  return EdgeQuad{f1, f2, a, b, c, d};
-}
-
-struct Flip {
-  uint32_t f1, f2;
-  Tri old1, old2;
-};
-
 // Undoes the flips `done` that made a face cross another (exact predicates; the faces
 // across a thin plate or a rim), and then those whose faces cross one undone; returns how
 // many.
-int64_t undo_crossing_flips(TriangleMesh& m, const std::vector<Flip>& done) {
+int64_t undo_crossing_flips(TriangleMesh& m, const std::vector<FlipRecord>& done) {
   std::vector<uint32_t> changed;  // the faces to check: the flips', then the undone ones'
-  for (const Flip& fl : done) changed.insert(changed.end(), {fl.f1, fl.f2});
+  for (const FlipRecord& fl : done) changed.insert(changed.end(), {fl.f1, fl.f2});
   int64_t undone = 0;
   for (int round = 0; round < 3 && !changed.empty(); ++round) {
     std::unordered_set<uint32_t> crossing;
     for (const auto& [f, g] : intersecting_triangles(m, &changed)) crossing.insert({f, g});
     changed.clear();
-    for (const Flip& fl : done)
+    for (const FlipRecord& fl : done)
       if ((crossing.count(fl.f1) || crossing.count(fl.f2)) && m.triangles[fl.f1] != fl.old1) {
-        m.triangles[fl.f1] = fl.old1;
-        m.triangles[fl.f2] = fl.old2;
+        undo_flip(m.triangles, fl);
         changed.insert(changed.end(), {fl.f1, fl.f2});
         ++undone;
       }
@@ -168,7 +87,7 @@ struct DelaunayFlip {
 // The flip of the quad q's edge, if it is not locally Delaunay and its triangles are
 // nearly coplanar (see step 1 in the header).
 std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces& edges, const EdgeQuad& q,
-                                          const OptimizeOptions& opt, const std::vector<char>& frozen) {
+                                          const OptimizeOptions& opt, const FrozenVertices& frozen) {
   const auto& T = m.triangles;
   const auto& x = m.vertices;
   const auto [f1, f2, a, b, c, d] = q;
@@ -193,11 +112,11 @@ template <class Candidate, class Propose>
 std::vector<Candidate> flip_candidates(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
                                        Propose&& propose, std::vector<double>& dist) {
   const auto& x = m.vertices;
-  const EdgeFaces edges(m.triangles);
+  const EdgeFaces edges(m.triangles, true);
   const std::vector<uint64_t>& keys = edges.keys();
   std::vector<std::optional<Candidate>> found(keys.size());
   tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) {
-    if (const auto q = edge_quad(m.triangles, edges, keys[i])) found[i] = propose(edges, *q);
+    if (const auto q = edge_quad(m.triangles, edges, i)) found[i] = propose(edges, *q);
   });
   std::vector<Candidate> cand;
   std::vector<Eigen::Vector3d> mids;
@@ -220,17 +139,9 @@ bool new_edge_near_surface(const std::vector<Eigen::Vector3d>& x, const Candidat
   return dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len);
 }
 
-// Makes a flip; returns what undoes it.
-Flip make_flip(std::vector<Tri>& T, uint32_t f1, uint32_t f2, const Tri& n1, const Tri& n2) {
-  const Flip undo{f1, f2, T[f1], T[f2]};
-  T[f1] = n1;
-  T[f2] = n2;
-  return undo;
-}
-
 // The flips of one pass (see the header), applied; returns them.
-std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
+std::vector<FlipRecord> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
+                            const OptimizeOptions& opt, const FrozenVertices& frozen) {
   auto& T = m.triangles;
   const auto& x = m.vertices;
   std::vector<double> dist;
@@ -240,12 +151,12 @@ std::vector<Flip> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   const std::vector<DelaunayFlip> cand = flip_candidates<DelaunayFlip>(m, s, backend, propose, dist);
   std::vector<char> locked(T.size(), 0);
   std::unordered_set<uint64_t> made;
-  std::vector<Flip> done;
+  std::vector<FlipRecord> done;
   for (size_t i = 0; i < cand.size(); ++i) {
     const DelaunayFlip& c = cand[i];
     if (locked[c.f1] || locked[c.f2] || made.count(c.new_edge)) continue;
     if (!new_edge_near_surface(x, c, dist, i, opt)) continue;
-    done.push_back(make_flip(T, c.f1, c.f2, c.n1, c.n2));
+    done.push_back(flip_faces(T, c.f1, c.f2, c.n1, c.n2));
     locked[c.f1] = locked[c.f2] = 1;
     made.insert(c.new_edge);
   }
@@ -270,7 +181,7 @@ struct SmoothFlip {
 // The flip of the quad q's edge, if it makes the surface smoother at little cost to the
 // shapes (see step 5 in the header).
 std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces& edges, const EdgeQuad& q,
-                                         const OptimizeOptions& opt, const std::vector<char>& frozen) {
+                                         const OptimizeOptions& opt, const FrozenVertices& frozen) {
   const auto& T = m.triangles;
   const auto& x = m.vertices;
   const auto [f1, f2, a, b, c, d] = q;
@@ -290,8 +201,10 @@ std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces&
       triangle_min_angle_below(x[b], x[c], x[d], opt.min_keep_deg))
     return std::nullopt;
   const auto across = [&](uint32_t u, uint32_t v, uint32_t f) {
-    const auto& [g1, g2] = edges.at(edge_key(u, v));
-    return g1 == f ? g2 : g1;
+    const size_t e = edges.find(edge_key(u, v));
+    MPUMESH_ASSERT(e != EdgeFaces::npos, "smoothing_flip: no such edge");
+    const std::span<const uint32_t> g = edges.faces(e);
+    return g.front() == f ? (g.size() > 1 ? g.back() : UINT32_MAX) : g.front();
   };
   // The four outer edges: ca and bc were f1's, ad and db f2's.
   const std::array<uint32_t, 6> near = {f1, f2, across(c, a, f1), across(b, c, f1), across(a, d, f2), across(d, b, f2)};
@@ -315,7 +228,7 @@ std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces&
 
 // The flips of one pass of step 5, applied; returns how many were kept.
 int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const OptimizeOptions& opt, const std::vector<char>& frozen) {
+                            const OptimizeOptions& opt, const FrozenVertices& frozen) {
   auto& T = m.triangles;
   const auto& x = m.vertices;
   std::vector<double> dist;
@@ -331,25 +244,17 @@ int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBa
   std::stable_sort(order.begin(), order.end(), [&](size_t i, size_t j) { return cand[i].gain > cand[j].gain; });
   std::vector<char> locked(T.size(), 0);
   std::unordered_set<uint64_t> made;
-  std::vector<Flip> done;
+  std::vector<FlipRecord> done;
   for (size_t i : order) {
     const SmoothFlip& f = cand[i];
     if (made.count(f.new_edge) || std::any_of(f.near.begin(), f.near.end(), [&](uint32_t g) { return locked[g]; }))
       continue;
     if (!new_edge_near_surface(x, f, dist, i, opt)) continue;
-    done.push_back(make_flip(T, f.f1, f.f2, f.n1, f.n2));
+    done.push_back(flip_faces(T, f.f1, f.f2, f.n1, f.n2));
     for (uint32_t g : f.near) locked[g] = 1;
     made.insert(f.new_edge);
   }
   return int64_t(done.size()) - undo_crossing_flips(m, done);
-}
-
-// The triangles not marked `gone`, in their order.
-void drop_marked(std::vector<Tri>& T, const std::vector<char>& gone) {
-  size_t n = 0;
-  for (size_t f = 0; f < T.size(); ++f)
-    if (!gone[f]) T[n++] = T[f];
-  T.resize(n);
 }
 
 // Whether a triangle whose normal was old_n (of any length) and is new_n after a change is
@@ -398,7 +303,7 @@ bool move_keeps(const std::vector<Eigen::Vector3d>& was, const std::vector<Eigen
 // One relaxation pass (see the header); returns the vertices that moved.
 std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
                                  const std::vector<double>& spacing, const VertexFaces& vf,
-                                 const OptimizeOptions& opt, const std::vector<char>& frozen) {
+                                 const OptimizeOptions& opt, const FrozenVertices& frozen) {
   const auto& T = m.triangles;
   const std::vector<Eigen::Vector3d> was = m.vertices;
   const size_t n = was.size();
@@ -512,7 +417,7 @@ std::optional<Eigen::Vector3d> best_merge_place(const std::vector<Eigen::Vector3
 // Step 2 of a round (see the header): the poor triangles' shortest edges collapsed;
 // returns how many. The removed vertex stays in the list, used by no triangle.
 int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                      const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+                      const std::vector<double>& spacing, const OptimizeOptions& opt, const FrozenVertices& frozen) {
   auto& T = m.triangles;
   auto& x = m.vertices;
   const std::vector<uint64_t> edges = poor_edges(m, opt);
@@ -528,28 +433,18 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
   }
   project_onto_surface(s, backend, mid, opt);
   const auto vf = vertex_faces(m);
-  auto neighbours = [&](uint32_t v) {
-    std::vector<uint32_t> n;
-    for (uint32_t f : vf[v])
-      for (uint32_t w : T[f])
-        if (w != v) n.push_back(w);
-    std::sort(n.begin(), n.end());
-    n.erase(std::unique(n.begin(), n.end()), n.end());
-    return n;
-  };
+  auto ring_of = [&](uint32_t v) { return vertex_ring(T, vf[v], v); };
   std::vector<char> locked(x.size(), 0), gone(T.size(), 0);
   int64_t done = 0;
   for (size_t i = 0; i < edges.size(); ++i) {
     const auto [a, b] = ends(i);
-    const std::vector<uint32_t> na = neighbours(a), nb = neighbours(b);
-    std::vector<uint32_t> shared, ring = na;
-    std::set_intersection(na.begin(), na.end(), nb.begin(), nb.end(), std::back_inserter(shared));
+    const std::vector<uint32_t> na = ring_of(a), nb = ring_of(b);
+    const auto link = collapse_link(na, nb);
+    std::vector<uint32_t> ring = na;
     ring.insert(ring.end(), nb.begin(), nb.end());
-    // The link condition (the edge's two opposite vertices are all a and b share), each
-    // keeping three neighbours, nothing frozen around and nothing near an earlier
-    // collapse of this pass.
-    if (shared.size() != 2 || neighbours(shared[0]).size() <= 3 || neighbours(shared[1]).size() <= 3 ||
-        na.size() + nb.size() < 7)
+    // The link condition, the edge's two opposite vertices each keeping three
+    // neighbours, nothing frozen around and nothing near an earlier collapse of this pass.
+    if (!link || ring_of((*link)[0]).size() <= 3 || ring_of((*link)[1]).size() <= 3 || na.size() + nb.size() < 7)
       continue;
     if (std::any_of(ring.begin(), ring.end(), [&](uint32_t v) { return locked[v] || frozen[v]; })) continue;
     std::vector<uint32_t> faces(vf[a].begin(), vf[a].end()), keep;
@@ -564,16 +459,12 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
     places.push_back(x[b]);
     const auto at = best_merge_place(x, T, keep, a, b, places, smallest_angle(x, T, faces), opt);
     if (!at) continue;
-    for (uint32_t f : faces) {
-      gone[f] = std::find(keep.begin(), keep.end(), f) == keep.end();
-      for (uint32_t& v : T[f])
-        if (v == b) v = a;
-    }
+    collapse_edge(T, vf[b], a, b, gone);
     x[a] = *at;
     for (uint32_t v : ring) locked[v] = 1;
     ++done;
   }
-  drop_marked(T, gone);
+  drop_gone_faces(T, gone);
   return done;
 }
 
@@ -584,7 +475,7 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
 // three's, or polish_below_deg. The three triangles' area vectors add up to the new
 // one's, so it faces as they did. Returns how many (each a vertex and two triangles
 // fewer); the removed vertex stays in the list, used by no triangle.
-int64_t remove_flat_caps(TriangleMesh& m, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+int64_t remove_flat_caps(TriangleMesh& m, const OptimizeOptions& opt, const FrozenVertices& frozen) {
   auto& T = m.triangles;
   const auto& x = m.vertices;
   const auto vf = vertex_faces(m);
@@ -618,7 +509,7 @@ int64_t remove_flat_caps(TriangleMesh& m, const OptimizeOptions& opt, const std:
     locked[v] = locked[a] = locked[b] = locked[c] = 1;
     ++done;
   }
-  drop_marked(T, gone);
+  drop_gone_faces(T, gone);
   return done;
 }
 
@@ -666,7 +557,7 @@ particles::ParticleState polish_places(const TriangleMesh& m, const mpu::MpuSurf
 // turning no triangle by more than max_turn_deg; one vertex after another. Returns the
 // moves made.
 int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                    const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen) {
+                    const std::vector<double>& spacing, const OptimizeOptions& opt, const FrozenVertices& frozen) {
   const auto& T = m.triangles;
   auto& x = m.vertices;
   std::vector<uint32_t> verts;
@@ -709,7 +600,7 @@ void clear_counts(OptimizeStats& st) {
 
 // The rounds, with the vertices `frozen` left as they are.
 void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
-                     const std::vector<double>& spacing, const OptimizeOptions& opt, const std::vector<char>& frozen,
+                     const std::vector<double>& spacing, const OptimizeOptions& opt, const FrozenVertices& frozen,
                      OptimizeStats& st) {
   clear_counts(st);
   for (int round = 0; round < opt.rounds; ++round) {
@@ -756,7 +647,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
   // A flip or a move can make a triangle cross another (across a thin plate); such
   // triangles are found once the rounds are done (exact predicates), and the rounds are
   // done again with their vertices frozen; after three tries, none is kept.
-  std::vector<char> frozen(mesh.vertices.size(), 0);
+  FrozenVertices frozen(mesh.vertices.size());
   for (int attempt = 0;; ++attempt) {
     mesh = input;
     optimize_rounds(mesh, s, backend, spacing, opt, frozen, st);
@@ -770,7 +661,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
     }
     for (const auto& [a, b] : pairs)
       for (uint32_t f : {a, b})
-        for (uint32_t v : mesh.triangles[f]) st.frozen += !frozen[v], frozen[v] = 1;
+        for (uint32_t v : mesh.triangles[f]) st.frozen += frozen.freeze(v);
   }
   if (st.collapses > 0) drop_unused_points(mesh.vertices, mesh.triangles);
   st.after = shape_figures(mesh);

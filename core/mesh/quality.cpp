@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <span>
 #include <sstream>
 
 #include <fmt/format.h>
 
 #include "mesh/cgal_geometry.h"
+#include "mesh/edge_faces.h"
 
 namespace mpumesh {
 namespace {
@@ -140,23 +142,11 @@ Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt) {
   q.pct_radius_ratio_below_half = 100.0 * double(ratio_below) / n;
   q.pct_area_axis_aligned = q.area_mm2 > 0 ? 100.0 * axis_area / q.area_mm2 : 0;
   // Dihedral angles over edges with exactly two faces.
-  std::vector<std::pair<uint64_t, uint32_t>> edges;
-  edges.reserve(nf * 3);
-  for (size_t f = 0; f < nf; ++f)
-    for (int c = 0; c < 3; ++c) {
-      uint32_t u = mesh.triangles[f][size_t(c)], v = mesh.triangles[f][size_t((c + 1) % 3)];
-      edges.push_back({edge_key(u, v), uint32_t(f)});
-    }
-  std::sort(edges.begin(), edges.end());
+  const EdgeFaces edges(mesh.triangles);
   std::vector<double> dihedral;
-  for (size_t i = 0; i + 1 < edges.size();) {
-    size_t j = i;
-    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
-    if (j - i == 2) {
-      const Eigen::Vector3d &n1 = normal[edges[i].second], &n2 = normal[edges[i + 1].second];
-      dihedral.push_back(angle_between(n1, n2) * kDeg);
-    }
-    i = j;
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const std::span<const uint32_t> faces = edges.faces(e);
+    if (faces.size() == 2) dihedral.push_back(angle_between(normal[faces[0]], normal[faces[1]]) * kDeg);
   }
   if (!dihedral.empty()) {
     double s = 0;

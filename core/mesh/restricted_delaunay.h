@@ -10,16 +10,15 @@
 // other side is added and the manifold repair runs again (lost sheets, twice at most).
 // A facet far wider than the sampling around it gets its crossing as a point too (the
 // sheet under it is sampled by none). A component that no particle holds is removed
-// (sampled_components).
-// The triangles are oriented consistently
-// through their shared edges, each component outward by ∇f; then edge collapses and flips
-// remove most thin triangles (mesh/thin_triangles.h).
+// (mesh/spurious_components.h). The triangles are oriented consistently through their
+// shared edges, each component outward by ∇f (mesh/orientation.h); then edge collapses
+// and flips remove most thin triangles (mesh/triangulation_cleanup.h). The manifold
+// repair is in mesh/manifold_repair.cpp, the lost sheets in mesh/lost_sheets.cpp.
 #pragma once
 
 #include <Eigen/Dense>
 #include <array>
 #include <cstdint>
-#include <functional>
 #include <vector>
 
 #include "geometry/triangle_mesh.h"
@@ -61,27 +60,5 @@ struct RestrictedDelaunayStats {
 TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
                                  RestrictedDelaunayStats* stats = nullptr, int64_t max_repair_points = 0,
                                  ComputeBackend* backend = nullptr);
-
-// Per triangle: whether its component (triangles joined through shared vertices) holds a
-// vertex v with sampled(v), and fewer than half of its vertices with off(v) (when given).
-// restricted_delaunay keeps only those. A component that no particle or lost-sheet point
-// holds was made by repair points alone, on a sheet of f that no particle reached. The
-// particles start at the data points and stay on f = 0, so every sheet the data support
-// holds some; such a component lies on a spurious sheet of the fit (on the sample CT: 4
-// repair points 18-22 mm from any bone, in the air by the volume's cut face, where f < 0;
-// a tetrahedron with 10 mm edges). off(v): a repair point farther than a reach from every
-// particle; a component mostly of those lies on such a sheet too, joined to the data by
-// the one particle whose Voronoi cell reaches it (on the CT: 12 repair points 14-27 mm
-// from any bone and one particle by the cut face). *unsampled: how many components are
-// dropped.
-std::vector<char> sampled_components(const std::vector<std::array<uint32_t, 3>>& triangles, size_t vertices,
-                                     const std::function<bool(uint32_t)>& sampled, int64_t* unsampled = nullptr,
-                                     const std::function<bool(uint32_t)>& off = nullptr);
-
-// Orients the triangles of each edge-connected component consistently (breadth-first
-// through shared edges; the mesh must be manifold) and then each component so that its
-// normals agree with `outward` (one direction per vertex) by an area-weighted vote.
-// Returns the number of components flipped.
-int64_t orient_components(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& outward);
 
 }  // namespace mpumesh

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <vector>
 
+#include "geometry/drop_unused.h"
 #include "geometry/vertex_faces.h"
+#include "mesh/edge_edit.h"
 #include "mesh/quality.h"
 
 namespace mpumesh {
@@ -21,6 +24,42 @@ double min_angle(const TriangleMesh& m, const std::array<uint32_t, 3>& t) {
 // min_angle(m, t) < deg (triangle_min_angle_below).
 bool below(const TriangleMesh& m, const std::array<uint32_t, 3>& t, double deg) {
   return triangle_min_angle_below(m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]], deg);
+}
+
+// Whether the collapse of the edge uv (u merged into v) is a needle's: its ends share
+// exactly the edge's two faces and the link condition holds, the collapse leaves no face
+// twice, and no face around u that stays turns by more than max_dihedral_deg.
+bool may_collapse(const TriangleMesh& mesh, const VertexFaces& vf, const std::vector<char>& dead, uint32_t u,
+                  uint32_t v, double cos_turn) {
+  const auto& tris = mesh.triangles;
+  int shared_faces = 0;
+  for (uint32_t g : vf[u])
+    if (!dead[g] && (tris[g][0] == v || tris[g][1] == v || tris[g][2] == v)) ++shared_faces;
+  const auto link = collapse_link(vertex_ring(tris, vf[u], u, &dead), vertex_ring(tris, vf[v], v, &dead));
+  if (shared_faces != 2 || !link) return false;
+  // The link condition's edge part: triangles u a b and v a b (a, b the two common
+  // neighbours) must not both exist, or the collapse leaves v a b twice (a pillow).
+  auto has_face = [&](uint32_t x) {
+    for (uint32_t g : vf[x]) {
+      if (dead[g]) continue;
+      int hit = 0;
+      for (uint32_t w : tris[g]) hit += w == (*link)[0] || w == (*link)[1];
+      if (hit == 2) return true;
+    }
+    return false;
+  };
+  if (has_face(u) && has_face(v)) return false;
+  // The faces around u that stay must not turn.
+  for (uint32_t g : vf[u]) {
+    if (dead[g] || tris[g][0] == v || tris[g][1] == v || tris[g][2] == v) continue;
+    std::array<uint32_t, 3> moved = tris[g];
+    for (uint32_t& w : moved)
+      if (w == u) w = v;
+    const Eigen::Vector3d n_new = (mesh.vertices[moved[1]] - mesh.vertices[moved[0]])
+                                      .cross(mesh.vertices[moved[2]] - mesh.vertices[moved[0]]);
+    if (!(n_new.norm() > 0) || !(n_new.normalized().dot(normal(mesh, tris[g])) > cos_turn)) return false;
+  }
+  return true;
 }
 
 // One pass of collapses; returns how many.
@@ -41,103 +80,19 @@ int64_t collapse_pass(TriangleMesh& mesh, const ThinTriangleOptions& opt) {
     uint32_t u = t[size_t(e)], v = t[size_t((e + 1) % 3)];
     if (u < v) std::swap(u, v);  // keep the earlier vertex (a particle before a repair point)
     if (locked[u] || locked[v]) continue;
-    if (opt.frozen) {
-      bool frozen = false;
-      for (uint32_t g : vf[u])
-        if (!dead[g])
-          for (uint32_t w : tris[g]) frozen = frozen || (*opt.frozen)[w];
-      if (frozen) continue;
-    }
-    // Link condition: the vertices adjacent to both are exactly the two opposite ones.
-    std::vector<uint32_t> nu, nvv, shared_faces;
-    for (uint32_t g : vf[u]) {
-      if (dead[g]) continue;
-      bool has_v = false;
-      for (uint32_t w : tris[g]) {
-        if (w == v) has_v = true;
-        if (w != u) nu.push_back(w);
-      }
-      if (has_v) shared_faces.push_back(g);
-    }
-    for (uint32_t g : vf[v])
-      if (!dead[g])
-        for (uint32_t w : tris[g])
-          if (w != v) nvv.push_back(w);
-    std::sort(nu.begin(), nu.end());
-    nu.erase(std::unique(nu.begin(), nu.end()), nu.end());
-    std::sort(nvv.begin(), nvv.end());
-    nvv.erase(std::unique(nvv.begin(), nvv.end()), nvv.end());
-    std::vector<uint32_t> common;
-    std::set_intersection(nu.begin(), nu.end(), nvv.begin(), nvv.end(), std::back_inserter(common));
-    if (shared_faces.size() != 2 || common.size() != 2) continue;
-    // The link condition's edge part: triangles u a b and v a b (a, b the two common
-    // neighbours) must not both exist, or the collapse leaves v a b twice (a pillow).
-    auto has_face = [&](uint32_t x) {
-      for (uint32_t g : vf[x]) {
-        if (dead[g]) continue;
-        int hit = 0;
-        for (uint32_t w : tris[g]) hit += w == common[0] || w == common[1];
-        if (hit == 2) return true;
-      }
-      return false;
-    };
-    if (has_face(u) && has_face(v)) continue;
-    // The faces around u that stay must not turn.
-    bool ok = true;
-    for (uint32_t g : vf[u]) {
-      if (dead[g] || g == shared_faces[0] || g == shared_faces[1]) continue;
-      std::array<uint32_t, 3> moved = tris[g];
-      for (uint32_t& w : moved)
-        if (w == u) w = v;
-      const Eigen::Vector3d n_new = (mesh.vertices[moved[1]] - mesh.vertices[moved[0]])
-                                        .cross(mesh.vertices[moved[2]] - mesh.vertices[moved[0]]);
-      if (!(n_new.norm() > 0) || !(n_new.normalized().dot(normal(mesh, tris[g])) > cos_turn)) {
-        ok = false;
-        break;
-      }
-    }
-    if (!ok) continue;
-    for (uint32_t g : vf[u]) {
-      if (dead[g]) continue;
-      if (g == shared_faces[0] || g == shared_faces[1]) {
-        dead[g] = 1;
-        continue;
-      }
-      for (uint32_t& w : tris[g])
-        if (w == u) w = v;
-    }
+    bool frozen = false;
+    for (uint32_t g : vf[u])
+      if (!dead[g]) frozen = frozen || opt.frozen.any_of(tris[g]);
+    if (frozen || !may_collapse(mesh, vf, dead, u, v, cos_turn)) continue;
+    collapse_edge(tris, vf[u], v, u, dead);
     for (uint32_t g : vf[u])
       for (uint32_t w : tris[g]) locked[w] = 1;
     for (uint32_t g : vf[v])
       for (uint32_t w : tris[g]) locked[w] = 1;
     ++n;
   }
-  if (n) {
-    size_t m = 0;
-    for (size_t f = 0; f < tris.size(); ++f)
-      if (!dead[f]) tris[m++] = tris[f];
-    tris.resize(m);
-  }
+  drop_gone_faces(tris, dead);
   return n;
-}
-
-// Drops vertices that no triangle uses, keeping the order of the rest; returns the old
-// index of each kept vertex.
-std::vector<uint32_t> drop_unused_vertices(TriangleMesh& mesh) {
-  std::vector<uint32_t> remap(mesh.vertices.size(), UINT32_MAX), kept;
-  for (const auto& t : mesh.triangles)
-    for (uint32_t v : t) remap[v] = 0;
-  uint32_t next = 0;
-  for (size_t v = 0; v < remap.size(); ++v)
-    if (remap[v] == 0) {
-      remap[v] = next;
-      kept.push_back(uint32_t(v));
-      mesh.vertices[next++] = mesh.vertices[v];
-    }
-  mesh.vertices.resize(next);
-  for (auto& t : mesh.triangles)
-    for (uint32_t& v : t) v = remap[v];
-  return kept;
 }
 
 int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& surface_distance,
@@ -155,70 +110,97 @@ ThinTriangleStats remove_thin_triangles(TriangleMesh& mesh,
     if (c == 0) break;
   }
   st.flips = flip_passes(mesh, surface_distance, opt);
-  st.kept = drop_unused_vertices(mesh);
+  st.kept = drop_unused_points(mesh.vertices, mesh.triangles);
   return st;
 }
 
 namespace {
 
-int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& surface_distance,
-                    const ThinTriangleOptions& opt) {
-  auto& tris = mesh.triangles;
-  // Faces of each vertex, updated on each flip (an edge map of vectors, rebuilt per pass,
-  // took 0.1 s a pass on the sample CT); each list allocated once at its size.
-  std::vector<std::vector<uint32_t>> vf(mesh.vertices.size());
-  {
+// The faces of each vertex, kept up to date through the flips (an edge map of vectors,
+// rebuilt per pass, takes far longer); each list allocated once at its size.
+class LiveVertexFaces {
+ public:
+  explicit LiveVertexFaces(const TriangleMesh& mesh) : tris_(mesh.triangles), vf_(mesh.vertices.size()) {
     const VertexFaces rows = vertex_faces(mesh);
-    for (size_t v = 0; v < vf.size(); ++v) vf[v].assign(rows[v].begin(), rows[v].end());
+    for (size_t v = 0; v < vf_.size(); ++v) vf_[v].assign(rows[v].begin(), rows[v].end());
   }
-  auto has = [&](uint32_t f, uint32_t v) { return tris[f][0] == v || tris[f][1] == v || tris[f][2] == v; };
-  // The faces with edge uv: up to 3 of them, and how many in all.
-  auto edge_faces = [&](uint32_t u, uint32_t v, uint32_t out[3]) {
+  // The faces with edge uv: up to 3 of them in `out`, and how many in all.
+  int edge_faces(uint32_t u, uint32_t v, uint32_t out[3]) const {
     int n = 0;
-    for (uint32_t g : vf[u])
-      if (has(g, v)) {
+    for (uint32_t g : vf_[u])
+      if (tris_[g][0] == v || tris_[g][1] == v || tris_[g][2] == v) {
         if (n < 3) out[n] = g;
         ++n;
       }
     return n;
-  };
-  auto drop = [](std::vector<uint32_t>& list, uint32_t f) { list.erase(std::find(list.begin(), list.end(), f)); };
+  }
+  // The flip of quad q made: a leaves f2, b leaves f1, c joins f2, d joins f1.
+  void flipped(const EdgeQuad& q) {
+    drop(vf_[q.a], q.f2);
+    drop(vf_[q.b], q.f1);
+    vf_[q.c].push_back(q.f2);
+    vf_[q.d].push_back(q.f1);
+  }
+
+ private:
+  static void drop(std::vector<uint32_t>& list, uint32_t f) { list.erase(std::find(list.begin(), list.end(), f)); }
+  const std::vector<Tri>& tris_;
+  std::vector<std::vector<uint32_t>> vf_;
+};
+
+// The quad of face f's edge e (f = abc, its neighbour bad running b -> a), when the edge
+// has two faces, the flip's new edge cd is no edge yet and no vertex is frozen.
+std::optional<EdgeQuad> flippable_quad(const TriangleMesh& mesh, const LiveVertexFaces& vf, uint32_t f, int e,
+                                       const FrozenVertices& frozen) {
+  const auto& tris = mesh.triangles;
+  const uint32_t a = tris[f][size_t(e)], b = tris[f][size_t((e + 1) % 3)], c = tris[f][size_t((e + 2) % 3)];
+  uint32_t ab[3];
+  if (vf.edge_faces(a, b, ab) != 2) return std::nullopt;
+  const uint32_t g = ab[0] == f ? ab[1] : ab[0];
+  // g runs b -> a (consistent orientation); d is its third vertex.
+  uint32_t d = UINT32_MAX;
+  for (int k = 0; k < 3; ++k)
+    if (tris[g][size_t(k)] == b && tris[g][size_t((k + 1) % 3)] == a) d = tris[g][size_t((k + 2) % 3)];
+  uint32_t cd[3];
+  if (d == UINT32_MAX || d == c || vf.edge_faces(c, d, cd) > 0) return std::nullopt;
+  if (frozen[a] || frozen[b] || frozen[c] || frozen[d]) return std::nullopt;
+  return EdgeQuad{f, g, a, b, c, d};
+}
+
+// Whether flipping q to the faces cad and dbc raises the smaller of the two faces' minimum
+// angles, keeps the quad nearly flat and brings the edge no farther from the surface.
+bool flip_mends(const TriangleMesh& mesh, const EdgeQuad& q, const std::array<uint32_t, 3>& t1,
+                const std::array<uint32_t, 3>& t2,
+                const std::function<double(const Eigen::Vector3d&)>& surface_distance, const ThinTriangleOptions& opt) {
+  const auto& tris = mesh.triangles;
   const double cos_dihedral = std::cos(opt.max_dihedral_deg * M_PI / 180);
+  const double before = std::min(min_angle(mesh, tris[q.f1]), min_angle(mesh, tris[q.f2]));
+  const double after = std::min(min_angle(mesh, t1), min_angle(mesh, t2));
+  if (after <= before + 1e-9) return false;
+  const Eigen::Vector3d n_old = (normal(mesh, tris[q.f1]) + normal(mesh, tris[q.f2])).normalized();
+  const Eigen::Vector3d n1 = normal(mesh, t1), n2 = normal(mesh, t2);
+  if (!(n1.dot(n2) > cos_dihedral && n1.dot(n_old) > cos_dihedral && n2.dot(n_old) > cos_dihedral)) return false;
+  // The new edge may lie off the surface by its sagitta, no more than the old one's.
+  const double old_off = surface_distance(0.5 * (mesh.vertices[q.a] + mesh.vertices[q.b]));
+  return surface_distance(0.5 * (mesh.vertices[q.c] + mesh.vertices[q.d])) <= std::max(opt.max_offset_mm, old_off);
+}
+
+int64_t flip_passes(TriangleMesh& mesh, const std::function<double(const Eigen::Vector3d&)>& surface_distance,
+                    const ThinTriangleOptions& opt) {
+  auto& tris = mesh.triangles;
+  LiveVertexFaces vf(mesh);
   int64_t flips = 0;
   for (int pass = 0; pass < opt.max_passes; ++pass) {
     int64_t pass_flips = 0;
     for (uint32_t f = 0; f < tris.size(); ++f) {
       if (!below(mesh, tris[f], opt.below_deg)) continue;
       for (int e = 0; e < 3; ++e) {
-        const uint32_t a = tris[f][size_t(e)], b = tris[f][size_t((e + 1) % 3)], c = tris[f][size_t((e + 2) % 3)];
-        uint32_t ab[3];
-        if (edge_faces(a, b, ab) != 2) continue;
-        const uint32_t g = ab[0] == f ? ab[1] : ab[0];
-        // g runs b -> a (consistent orientation); d is its third vertex.
-        uint32_t d = UINT32_MAX;
-        for (int k = 0; k < 3; ++k)
-          if (tris[g][size_t(k)] == b && tris[g][size_t((k + 1) % 3)] == a) d = tris[g][size_t((k + 2) % 3)];
-        uint32_t cd[3];
-        if (d == UINT32_MAX || d == c || edge_faces(c, d, cd) > 0) continue;
-        if (opt.frozen && ((*opt.frozen)[a] || (*opt.frozen)[b] || (*opt.frozen)[c] || (*opt.frozen)[d])) continue;
-        const std::array<uint32_t, 3> t1{c, a, d}, t2{d, b, c};  // abc + bad -> cad + dbc
-        const double before = std::min(min_angle(mesh, tris[f]), min_angle(mesh, tris[g]));
-        const double after = std::min(min_angle(mesh, t1), min_angle(mesh, t2));
-        if (after <= before + 1e-9) continue;
-        const Eigen::Vector3d n_old = (normal(mesh, tris[f]) + normal(mesh, tris[g])).normalized();
-        const Eigen::Vector3d n1 = normal(mesh, t1), n2 = normal(mesh, t2);
-        if (!(n1.dot(n2) > cos_dihedral && n1.dot(n_old) > cos_dihedral && n2.dot(n_old) > cos_dihedral)) continue;
-        // The new edge may lie off the surface by its sagitta, no more than the old one's.
-        const double old_off = surface_distance(0.5 * (mesh.vertices[a] + mesh.vertices[b]));
-        if (!(surface_distance(0.5 * (mesh.vertices[c] + mesh.vertices[d])) <= std::max(opt.max_offset_mm, old_off)))
-          continue;
-        // Flip: a leaves g, b leaves f, c joins g, d joins f.
-        tris[f] = t1;
-        tris[g] = t2;
-        drop(vf[a], g);
-        drop(vf[b], f);
-        vf[c].push_back(g);
-        vf[d].push_back(f);
+        const auto q = flippable_quad(mesh, vf, f, e, opt.frozen);
+        if (!q) continue;
+        const std::array<uint32_t, 3> t1{q->c, q->a, q->d}, t2{q->d, q->b, q->c};  // abc + bad -> cad + dbc
+        if (!flip_mends(mesh, *q, t1, t2, surface_distance, opt)) continue;
+        flip_faces(tris, q->f1, q->f2, t1, t2);
+        vf.flipped(*q);
         ++pass_flips;
         break;  // f changed; its other edges wait for the next pass
       }
@@ -264,7 +246,7 @@ std::vector<uint32_t> relax_thin_triangles(TriangleMesh& mesh,
     look.erase(std::unique(look.begin(), look.end()), look.end());
     int64_t round_moves = 0;
     for (const uint32_t v : todo) {
-      if (opt.frozen && (*opt.frozen)[v]) continue;
+      if (opt.frozen[v]) continue;
       const double before = fan_min(v);
       if (before >= opt.below_deg) continue;
       std::vector<uint32_t> ring;

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "geometry/triangle_mesh.h"
+#include "mesh/edge_edit.h"
 
 namespace mpumesh {
 
@@ -27,7 +28,7 @@ struct ThinTriangleOptions {
   double max_dihedral_deg = 20;
   double max_offset_mm = 0.05;
   int max_passes = 10;
-  const std::vector<char>* frozen = nullptr;  // per input vertex
+  FrozenVertices frozen;  // per input vertex
 };
 
 struct ThinTriangleStats {
@@ -50,7 +51,7 @@ struct RelaxOptions {
   double below_deg = 20;
   double max_turn_deg = 30;
   int rounds = 20;
-  const std::vector<char>* frozen = nullptr;  // per vertex
+  FrozenVertices frozen;  // per vertex
 };
 std::vector<uint32_t> relax_thin_triangles(TriangleMesh& mesh,
                                            const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& project,

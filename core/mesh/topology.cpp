@@ -1,15 +1,17 @@
 #include "mesh/topology.h"
 
 #include <fmt/format.h>
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_reduce.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <functional>
 #include <numeric>
+#include <span>
 
 #include "common/error.h"
 #include "geometry/vertex_faces.h"
+#include "mesh/edge_faces.h"
 
 namespace mpumesh {
 namespace {
@@ -50,35 +52,28 @@ std::vector<int32_t> triangle_components(const TriangleMesh& mesh, int64_t* coun
 Topology analyze_topology(const TriangleMesh& mesh) {
   Topology t;
   t.triangles = int64_t(mesh.triangles.size());
-  // Half-edges (from, to, face), sorted by undirected key.
-  struct Half {
-    uint64_t key;
-    uint32_t from, face;
-  };
-  std::vector<Half> he;
-  he.reserve(mesh.triangles.size() * 3);
   std::vector<char> used(mesh.vertices.size(), 0);
-  for (size_t f = 0; f < mesh.triangles.size(); ++f) {
-    const auto& tri = mesh.triangles[f];
+  for (const auto& tri : mesh.triangles) {
     if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) ++t.degenerate_triangles;
-    for (int c = 0; c < 3; ++c) {
-      uint32_t a = tri[size_t(c)], b = tri[size_t((c + 1) % 3)];
-      used[a] = 1;
-      he.push_back({edge_key(a, b), a, uint32_t(f)});
-    }
+    for (uint32_t v : tri) used[v] = 1;
   }
   t.vertices = std::count(used.begin(), used.end(), 1);
-  // (Only counted, so the order of equal keys does not matter.)
-  tbb::parallel_sort(he.begin(), he.end(), [](const Half& x, const Half& y) { return x.key < y.key; });
-  for (size_t i = 0; i < he.size();) {
-    size_t j = i;
-    while (j < he.size() && he[j].key == he[i].key) ++j;
-    const size_t n = j - i;
-    ++t.edges;
-    if (n == 1) ++t.border_edges;
-    else if (n > 2) ++t.nonmanifold_edges;
-    else if (he[i].from == he[i + 1].from) ++t.misoriented_edges;
-    i = j;
+  // The vertex a face runs the edge `key` from.
+  const auto from = [&](uint32_t f, uint64_t key) {
+    const auto& tri = mesh.triangles[f];
+    for (size_t c = 0; c < 3; ++c)
+      if (edge_key(tri[c], tri[(c + 1) % 3]) == key) return tri[c];
+    return UINT32_MAX;
+  };
+  const EdgeFaces edges(mesh.triangles);
+  t.edges = int64_t(edges.size());
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const std::span<const uint32_t> faces = edges.faces(e);
+    if (faces.size() == 1) ++t.border_edges;
+    else if (faces.size() > 2) ++t.nonmanifold_edges;
+    // (A face that holds the edge twice runs it both ways.)
+    else if (faces[0] != faces[1] && from(faces[0], edges.keys()[e]) == from(faces[1], edges.keys()[e]))
+      ++t.misoriented_edges;
   }
   // Fans: around each vertex, triangles are linked when they share an edge at the vertex.
   const VertexFaces vf = vertex_faces(mesh);

@@ -12,6 +12,7 @@
 #include "mesh/quality.h"
 #include "mesh/topology.h"
 #include "mesh/restricted_delaunay.h"
+#include "mesh/spurious_components.h"
 #include "mpu/mpu_fit.h"
 #include "particles/data_support.h"
 #include "particles/particle_system.h"

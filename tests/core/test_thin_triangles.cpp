@@ -69,13 +69,13 @@ TEST(ThinTriangles, LeavesFrozenVerticesAlone) {
   const double r = 10;
   TriangleMesh m = with_needles(test::icosphere(r, 3), r);
   const size_t triangles = m.triangles.size();
-  std::vector<char> frozen(m.vertices.size(), 0);
-  frozen.back() = 1;  // the repair point
+  FrozenVertices frozen(m.vertices.size());
+  frozen.freeze(uint32_t(m.vertices.size() - 1));  // the repair point
   for (const auto& t : m.triangles)
     if (std::find(t.begin(), t.end(), uint32_t(m.vertices.size() - 1)) != t.end())
-      for (uint32_t v : t) frozen[v] = 1;
+      for (uint32_t v : t) frozen.freeze(v);
   ThinTriangleOptions opt;
-  opt.frozen = &frozen;
+  opt.frozen = frozen;
   const ThinTriangleStats st =
       remove_thin_triangles(m, [&](const Eigen::Vector3d& x) { return std::abs(x.norm() - r); }, opt);
   EXPECT_EQ(st.collapses, 0);
@@ -117,10 +117,10 @@ TEST(ThinTriangles, NeedleNextToAVertexIsCollapsed) {
   {
     // With a vertex of the needle frozen, nothing around it changes.
     TriangleMesh frozen_mesh = m;
-    std::vector<char> frozen(m.vertices.size(), 0);
-    frozen[t[2]] = 1;
+    FrozenVertices frozen(m.vertices.size());
+    frozen.freeze(t[2]);
     ThinTriangleOptions o;
-    o.frozen = &frozen;
+    o.frozen = frozen;
     const ThinTriangleStats fs = remove_thin_triangles(frozen_mesh, on_sphere, o);
     EXPECT_EQ(fs.collapses, 0);
     EXPECT_EQ(frozen_mesh.triangles.size(), m.triangles.size());
@@ -150,9 +150,10 @@ TEST(ThinTriangles, RelaxationMendsAPushedVertex) {
   {
     // With every vertex frozen, nothing moves.
     TriangleMesh still = m;
-    std::vector<char> frozen(m.vertices.size(), 1);
+    FrozenVertices frozen(m.vertices.size());
+    for (uint32_t v = 0; v < m.vertices.size(); ++v) frozen.freeze(v);
     RelaxOptions o;
-    o.frozen = &frozen;
+    o.frozen = frozen;
     EXPECT_TRUE(relax_thin_triangles(still, project, o).empty());
     EXPECT_EQ(still.vertices, m.vertices);
   }
