@@ -138,7 +138,7 @@ void add_quality_command(CLI::App& app, CommonOptions& common, std::function<voi
 void add_filter_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
   struct Opts {
     std::string input, output;
-    ComponentFilter components;
+    ComponentOptions components;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("filter", "Keep the wanted structures of a closed mesh: the largest, or those "

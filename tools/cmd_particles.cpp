@@ -15,6 +15,9 @@
 #include "mesh/topology.h"
 #include "mpu/mpu_io.h"
 #include "particles/particle_system.h"
+#include "option_spelling.h"
+#include "particles/spacing_stats.h"
+#include "run_json.h"
 #include "sample_cli.h"
 
 namespace mpumesh::tools {
@@ -46,7 +49,7 @@ void add_sample_command(CLI::App& app, CommonOptions& common, std::function<void
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
       check_writable(o->output);
-      particles::validate(o->sample);
+      as_command("sample", [&] { particles::validate(o->sample); });
       Progress progress(common.quiet || common.json);
       progress.begin("read surface");
       const mpu::MpuSurface s = mpu::read_mpu(o->surface);
@@ -61,7 +64,8 @@ void add_sample_command(CLI::App& app, CommonOptions& common, std::function<void
       progress.begin("write particles");
       write_point_cloud(particle_cloud(ps), o->output);
       progress.end();
-      nlohmann::json j = sample_json(o->sample, st, ps);
+      const particles::SpacingSummary spacing = particles::spacing_summary(st, ps);
+      nlohmann::json j = sample_json(o->sample, st, &spacing);
       j["input"] = o->surface;
       j["output"] = o->output;
       j["backend"] = backend_json(choice);

@@ -14,6 +14,7 @@
 #include "render/mesh_render_vk.h"
 #include "render/render_scene.h"
 #include "report_builder.h"
+#include "run_json.h"
 
 namespace mpumesh::tools {
 
@@ -135,7 +136,14 @@ void add_report_command(CLI::App& app, CommonOptions& common, std::function<void
       in.ours = {std::filesystem::path(o->mesh).filename().string(), &mesh};
       for (size_t i = 0; i < refs.size(); ++i)
         in.baselines.push_back({std::filesystem::path(o->references[i]).filename().string(), &refs[i]});
-      in.run = run;
+      RunReportRead read;
+      if (!o->run_report.empty()) {
+        read = read_run_json(run, o->run_report);
+        in.run.result = &read.run;
+        in.run.device = read.device;
+        in.run.stage_seconds = read.stage_seconds;
+        in.run.parameters = report_parameters(run);
+      }
       const std::string html = build_report(in, *choice.backend);
       progress.end();
       write_file_atomically(html, o->output);

@@ -12,6 +12,7 @@
 #include "io/mesh_io.h"
 #include "io/tet_io.h"
 #include "progress.h"
+#include "option_spelling.h"
 #include "tet_cli.h"
 
 namespace mpumesh::tools {
@@ -33,7 +34,7 @@ void add_tetmesh_command(CLI::App& app, CommonOptions& common, std::function<voi
   add_common(cmd, common);
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
-      validate(o->tet, "tetmesh");
+      as_command("tetmesh", [&] { validate(o->tet); });
       tet_format_from_path(o->output);
       check_writable(o->output);
       if (!o->report.empty()) check_writable(o->report);

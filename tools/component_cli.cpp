@@ -4,7 +4,7 @@
 
 namespace mpumesh::tools {
 
-void add_component_options(CLI::App* cmd, ComponentFilter& f) {
+void add_component_options(CLI::App* cmd, ComponentOptions& f) {
   cmd->add_option("--largest", f.largest,
                   "keep the N structures of largest enclosed volume (each with its cavities), e.g. 1 for the skull "
                   "without the scanner's head rest")
@@ -13,7 +13,7 @@ void add_component_options(CLI::App* cmd, ComponentFilter& f) {
       ->check(CLI::NonNegativeNumber);
 }
 
-nlohmann::json components_json(const ComponentFilter& f, int64_t kept, const std::vector<DroppedComponent>& dropped) {
+nlohmann::json components_json(const ComponentOptions& f, int64_t kept, const std::vector<DroppedComponent>& dropped) {
   nlohmann::json d = nlohmann::json::array();
   for (const DroppedComponent& c : dropped)
     d.push_back({{"triangles", c.triangles},

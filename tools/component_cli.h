@@ -10,8 +10,8 @@
 
 namespace mpumesh::tools {
 
-void add_component_options(CLI::App* cmd, ComponentFilter& f);
-nlohmann::json components_json(const ComponentFilter& f, int64_t kept, const std::vector<DroppedComponent>& dropped);
+void add_component_options(CLI::App* cmd, ComponentOptions& f);
+nlohmann::json components_json(const ComponentOptions& f, int64_t kept, const std::vector<DroppedComponent>& dropped);
 // "kept N structures; dropped M: ..." lines.
 std::string components_text(int64_t kept, const std::vector<DroppedComponent>& dropped);
 

@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "common/memory.h"
 #include "io/atomic_file.h"
+#include "option_spelling.h"
 #include "vk/vk_check.h"
 
 namespace {
@@ -52,11 +53,14 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  // Core names options by their stable names; the message spells them as this command's flags.
+  const std::string command = app.get_subcommands().empty() ? "" : app.get_subcommands().front()->get_name();
+  const auto message = [&](const std::exception& e) { return mpumesh::tools::cli_text(e.what(), command); };
   try {
     action();
     return 0;
   } catch (const mpumesh::InputError& e) {
-    std::fprintf(stderr, "mpumesh: error: %s\n", e.what());
+    std::fprintf(stderr, "mpumesh: error: %s\n", message(e).c_str());
   } catch (const mpumesh::vk::NoVulkanDevice& e) {
     std::fprintf(stderr, "mpumesh: error: %s (use --backend cpu or auto)\n", e.what());
   } catch (const mpumesh::vk::VulkanError& e) {
@@ -64,7 +68,7 @@ int main(int argc, char** argv) {
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "mpumesh: error: out of memory\n");
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "mpumesh: error: %s\n", e.what());
+    std::fprintf(stderr, "mpumesh: error: %s\n", message(e).c_str());
   }
   mpumesh::remove_pending_temporaries();
   return 1;

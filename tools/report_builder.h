@@ -7,10 +7,13 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "compute/compute_backend.h"
 #include "geometry/triangle_mesh.h"
+#include "pipeline/run_result.h"
+#include "run_json.h"
 
 namespace mpumesh::tools {
 
@@ -19,12 +22,25 @@ struct ReportMesh {
   const TriangleMesh* mesh = nullptr;
 };
 
+// What the page shows of the run that made the mesh (none for a mesh alone).
+struct ReportRun {
+  const pipeline::RunResult* result = nullptr;
+  std::string device;
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  // The sections of the run's JSON report shown as they are (segmentation, fit,
+  // particles, triangulation, optimisation).
+  nlohmann::json parameters = nlohmann::json::object();
+  OptionSpelling spell = [](std::string_view name) { return std::string(name); };
+};
+
 struct ReportInputs {
   ReportMesh ours;
   std::vector<ReportMesh> baselines;  // e.g. marching cubes, the original MPU
-  // What run knows (its JSON report: input, stages, device, parameters); may be empty.
-  nlohmann::json run = nlohmann::json::object();
+  ReportRun run;
 };
+
+// The sections of a run's JSON report that the page shows as they are.
+nlohmann::json report_parameters(const nlohmann::json& run_json);
 
 std::string build_report(const ReportInputs& in, ComputeBackend& backend);
 

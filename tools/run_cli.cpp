@@ -9,6 +9,7 @@
 #include "io/read_file.h"
 #include "io/tet_io.h"
 #include "mpu_cli.h"
+#include "option_spelling.h"
 #include "sample_cli.h"
 #include "component_cli.h"
 #include "segment/label_map.h"
@@ -121,11 +122,14 @@ void check_run_outputs(const RunCli& o) {
   }
 }
 
-pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common) {
+pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common, const std::string& command) {
   check_label_options(o);
   o.fit.local_fit = o.local_fit == "quadric" ? mpu::LocalFit::kQuadric : mpu::LocalFit::kOrthopoly;
   mpu::validate(o.fit);
-  particles::validate(o.sample, "run", "particle-iterations");
+  as_command(command, [&] {
+    particles::validate(o.sample);
+    validate(o.tet);
+  });
   pipeline::RunOptions r;
   if (!pipeline::is_mesh_path(o.input)) r.segment = resolve(o.seg);
   r.label = o.label;
@@ -134,93 +138,14 @@ pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common) {
   r.sample = o.sample;
   r.count_retries = o.count_retries;
   r.optimize.rounds = o.optimize_rounds;
-  validate(o.tet, "run");
-  r.volume_mesh = !o.volume.empty();
-  r.tet = o.tet;
+  if (!o.volume.empty()) r.volume_mesh = o.tet;
   r.components = o.components;
   if (o.keep_specks) r.speck_voxels = 0;
-  r.quality = !o.report.empty() || common.json || !common.quiet;
-  r.quality_options.self_intersections = o.self_intersections;
+  if (!o.report.empty() || common.json || !common.quiet) r.quality->self_intersections = o.self_intersections;
+  else r.quality.reset();
+  r.spacing_figures = !o.report.empty() || !o.html.empty() || common.json;
   r.baselines = !o.html.empty();
   return r;
-}
-
-namespace {
-
-nlohmann::json input_json(const pipeline::InputInfo& in) {
-  if (in.mesh)
-    return {{"path", in.path}, {"kind", "mesh"}, {"vertices", in.vertices}, {"triangles", in.triangles}};
-  return {{"path", in.path},
-          {"kind", "volume"},
-          {"dims", in.dims},
-          {"spacing_mm", {in.spacing.x(), in.spacing.y(), in.spacing.z()}},
-          {"modality", in.modality},
-          {"read_notes", in.read_notes}};
-}
-
-}  // namespace
-
-// The JSON report (without the stage times, the HTML path and the memory peak, which
-// come last).
-nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeline::RunResult& r,
-                        const vk::BackendChoice& choice) {
-  nlohmann::json j;
-  j["input"] = input_json(r.input);
-  if (!r.input.mesh) j["segmentation"] = segment_json(r.segment_options, r.segmentation);
-  j["points"] = r.points;
-  j["fit"] = fit_json(r.fit_options, r.fit);
-  j["fit"]["eps_source"] = r.tolerance.source.empty()
-                               ? (r.eps_given ? "--eps" : "a quarter of the points' median spacing")
-                               : r.tolerance.source;
-  if (r.tolerance.noise > 0) j["fit"]["point_noise_mm"] = r.tolerance.noise;
-  j["particles"] = sample_json(r.sample_options, r.sample, r.particles);
-  j["particles"]["kernel_ms"] = r.particle_kernel_ms;
-  nlohmann::json raises = nlohmann::json::array();
-  for (const pipeline::CountRaise& c : r.raises)
-    raises.push_back({{"requested_particles", c.requested_particles},
-                      {"requested_spacing_mm", c.requested_spacing_mm},
-                      {"asked_particles", c.asked_particles},
-                      {"particles", c.particles},
-                      {"repair_points", c.repair_points},
-                      {"next_requested_particles", c.next_requested_particles},
-                      {"next_requested_spacing_mm", c.next_requested_spacing_mm}});
-  j["particles"]["count_raises"] = raises;
-  j["triangulation"] = triangulation_json(r.triangulation);
-  const auto shape = [](const ShapeFigures& f) {
-    return nlohmann::json{{"min_angle_deg", f.min_angle_deg}, {"pct_below_30_deg", f.pct_below_30}, {"radius_ratio_mean", f.radius_ratio}};
-  };
-  const OptimizeStats& op = r.optimization;
-  j["optimization"] = {{"rounds", op.rounds},
-                       {"flips", op.flips},
-                       {"smoothing_flips", op.smooth_flips},
-                       {"moves", op.moves},
-                       {"collapses", op.collapses},
-                       {"polish_moves", op.polish_moves},
-                       {"retries", op.retries},
-                       {"frozen", op.frozen},
-                       {"seconds", op.seconds},
-                       {"before", shape(op.before)},
-                       {"after", shape(op.after)}};
-  j["backend"] = backend_json(choice);
-  j["kernel_ms"] = choice.backend->kernel_ms();
-  j["output"] = output;
-  j["vertices"] = r.mesh.vertices.size();
-  j["triangles"] = r.mesh.triangles.size();
-  if (r.components.active()) j["components_filter"] = components_json(r.components, r.components_kept, r.components_dropped);
-  if (r.has_volume) {
-    j["volume_mesh"] = tet_json(o.tet, r.volume_stats);
-    j["volume_mesh"]["output"] = o.volume;
-  }
-  if (r.has_quality) j["quality"] = quality_to_json(r.quality);
-  j["notes"] = r.notes;
-  j["version"] = MPUMESH_VERSION;
-  return j;
-}
-
-nlohmann::json memory_json(const pipeline::RunResult& r) {
-  return {{"estimate_gib", double(r.memory_estimate) / double(1ull << 30)},
-          {"available_gib", double(available_memory_bytes()) / double(1ull << 30)},
-          {"peak_rss_gib", double(peak_rss_bytes()) / double(1ull << 30)}};
 }
 
 }  // namespace mpumesh::tools

@@ -30,7 +30,7 @@ struct RunCli {
   bool self_intersections = true, ruled_caps = false, keep_specks = false;
   int count_retries = -1;  // -1: 2 when neither --particles nor --spacing is given, else 0
   int optimize_rounds = OptimizeOptions{}.rounds;
-  ComponentFilter components;
+  ComponentOptions components;
   int64_t label = 0;   // --label
   std::string labels;  // --labels: "all" or a list
   int threads = 0;     // 0: every core
@@ -47,12 +47,8 @@ std::string with_label(std::string path, int64_t label);
 // The outputs, checked before the long work starts (their directories writable, the mesh
 // format known, --labels paths holding {label}).
 void check_run_outputs(const RunCli& o);
-// The parameters, checked, as the pipeline's options (throws InputError).
-pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common);
-
-// The JSON report (without the stage times, the HTML path and the memory, which come last).
-nlohmann::json run_json(const RunCli& o, const std::string& output, const pipeline::RunResult& r,
-                        const vk::BackendChoice& choice);
-nlohmann::json memory_json(const pipeline::RunResult& r);
+// The parameters, checked, as the pipeline's options (throws InputError; the particles'
+// and the volume mesh's options with "COMMAND: " in front, when a command is named).
+pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common, const std::string& command = "run");
 
 }  // namespace mpumesh::tools

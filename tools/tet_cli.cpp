@@ -44,7 +44,7 @@ nlohmann::json tet_json(const TetOptions& o, const TetStats& st) {
   j["nodes_perturbed"] = st.perturbed;
   j["points_for_flat_tetrahedra"] = st.flat_tet_points;
   j["surface_volume_mm3"] = st.surface_volume;
-  j["volume_difference_pct"] = 100 * (st.quality.volume_mm3 - st.surface_volume) / st.surface_volume;
+  j["volume_difference_pct"] = st.volume_difference_pct();
   j["seconds"] = st.seconds;
   return j;
 }

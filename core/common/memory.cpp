@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "common/error.h"
+#include "common/option_names.h"
 
 namespace mpumesh {
 
@@ -55,7 +56,7 @@ void check_memory(const std::string& what, uint64_t need) {
     char msg[160];
     std::snprintf(msg, sizeof msg, ": this job needs about %.2f GiB, more than the %.2f GiB of memory available",
                   double(need) / double(1ull << 30), double(have) / double(1ull << 30));
-    throw InputError(what + msg + " (ask for fewer --particles, or crop or downsample the volume)");
+    throw InputError(what + msg + " (ask for fewer " + option_ref("particles") + ", or crop or downsample the volume)");
   }
 }
 

@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include "common/error.h"
+#include "common/option_names.h"
 
 namespace mpumesh::mc {
 
@@ -54,7 +55,7 @@ ThresholdRange parse_threshold(const std::string& text) {
       used = 0;
     }
     if (used == 0 || used != s.size() || !std::isfinite(v))
-      throw InputError("--threshold: '" + text + "' is not LO or LO:HI (numbers)");
+      throw InputError(option_ref("threshold") + ": '" + text + "' is not LO or LO:HI (numbers)");
     return v;
   };
   auto colon = text.find(':');
@@ -64,7 +65,7 @@ ThresholdRange parse_threshold(const std::string& text) {
     r.lo = num(text.substr(0, colon));
     r.hi = num(text.substr(colon + 1));
   }
-  if (r.lo > r.hi) throw InputError("--threshold: LO is above HI in '" + text + "'");
+  if (r.lo > r.hi) throw InputError(option_ref("threshold") + ": LO is above HI in '" + text + "'");
   return r;
 }
 

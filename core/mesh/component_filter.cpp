@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "geometry/ray_triangle.h"
 #include "mesh/topology.h"
 
@@ -60,7 +61,7 @@ std::vector<Component> components_of(const TriangleMesh& m) {
 
 }  // namespace
 
-FilteredMesh filter_components(const TriangleMesh& m, const ComponentFilter& filter) {
+FilteredMesh filter_components(const TriangleMesh& m, const ComponentOptions& filter) {
   FilteredMesh out;
   std::vector<Component> c = components_of(m);
   // Shells (and cavities no shell holds, kept as they are), largest volume first.
@@ -117,12 +118,12 @@ FilteredMesh filter_components(const TriangleMesh& m, const ComponentFilter& fil
   return out;
 }
 
-void require_kept(const FilteredMesh& f, const ComponentFilter& filter, const std::string& path) {
+void require_kept(const FilteredMesh& f, const ComponentOptions& filter, const std::string& path) {
   if (!f.mesh.triangles.empty()) return;
   const double largest = f.dropped.empty() ? 0.0 : f.dropped.front().volume_mm3;
-  throw InputError(fmt::format("{}: --min-volume {} mm3 drops every structure (the largest encloses {:.1f} mm3); "
+  throw InputError(fmt::format("{}: {} {} mm3 drops every structure (the largest encloses {:.1f} mm3); "
                                "nothing written",
-                               path, filter.min_volume_mm3, largest));
+                               path, option_ref("min_volume"), filter.min_volume_mm3, largest));
 }
 
 }  // namespace mpumesh

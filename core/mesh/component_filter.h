@@ -15,7 +15,7 @@
 
 namespace mpumesh {
 
-struct ComponentFilter {
+struct ComponentOptions {
   int64_t largest = 0;        // keep the N shells of largest volume (0: all)
   double min_volume_mm3 = 0;  // and drop the shells enclosing less than this
   bool active() const { return largest > 0 || min_volume_mm3 > 0; }
@@ -33,10 +33,10 @@ struct FilteredMesh {
   std::vector<DroppedComponent> dropped;  // largest first
 };
 
-FilteredMesh filter_components(const TriangleMesh& mesh, const ComponentFilter& filter);
+FilteredMesh filter_components(const TriangleMesh& mesh, const ComponentOptions& filter);
 
 // Throws InputError naming `path` when the filter kept nothing (only --min-volume can drop
 // every structure); says how much the largest encloses.
-void require_kept(const FilteredMesh& f, const ComponentFilter& filter, const std::string& path);
+void require_kept(const FilteredMesh& f, const ComponentOptions& filter, const std::string& path);
 
 }  // namespace mpumesh

@@ -1,261 +1,24 @@
 #include "mesh/mesh_optimize.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_sort.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <optional>
 #include <span>
 #include <unordered_set>
 
-#include "common/error.h"
-#include "common/hash.h"
 #include "geometry/drop_unused.h"
-#include "geometry/tet_mesh.h"
 #include "geometry/vertex_faces.h"
 #include "mesh/edge_edit.h"
-#include "mesh/edge_faces.h"
+#include "mesh/optimize_steps.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
-#include "mpu/mpu_eval_ref.h"
 #include "particles/particle_step_ref.h"
 
 namespace mpumesh {
-namespace {
-
-Eigen::Vector3d area_normal(const std::vector<Eigen::Vector3d>& x, const Tri& t) {
-  return (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]);
-}
-
-// The angle at a of the triangle abc (radians).
-double angle_at(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  return angle_between(b - a, c - a);
-}
-
-// Whether the angles at c and d facing the edge ab add up to less than pi by far more than
-// rounding, told from their cosines, without the arc tangents: α + β = π - δ makes
-// cos α + cos β = 2 sin(δ / 2) cos((α - β) / 2) <= δ, so a sum above 1e-6 means δ > 1e-6.
-// (On the sample CT most edges are; the arc tangents took 10% of the optimisation's CPU.)
-bool clearly_delaunay(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
-                      const Eigen::Vector3d& d) {
-  const Eigen::Vector3d ca = a - c, cb = b - c, da = a - d, db = b - d;
-  const double cos_c = ca.dot(cb) / std::sqrt(ca.squaredNorm() * cb.squaredNorm());
-  const double cos_d = da.dot(db) / std::sqrt(da.squaredNorm() * db.squaredNorm());
-  return cos_c + cos_d > 1e-6;
-}
-
-// The distance of each point from the surface: |f| (on the backend), which is about the
-// distance in mm near f = 0 (mpu_surface.h).
-std::vector<double> surface_distances(const mpu::MpuSurface& s, ComputeBackend& backend,
-                                      const std::vector<Eigen::Vector3d>& p) {
-  std::vector<double> d = backend.mpu_f(s, p);
-  for (double& v : d) v = std::abs(v);
-  return d;
-}
-
-// Undoes the flips `done` that made a face cross another (exact predicates; the faces
-// across a thin plate or a rim), and then those whose faces cross one undone; returns how
-// many.
-int64_t undo_crossing_flips(TriangleMesh& m, const std::vector<FlipRecord>& done) {
-  std::vector<uint32_t> changed;  // the faces to check: the flips', then the undone ones'
-  for (const FlipRecord& fl : done) changed.insert(changed.end(), {fl.f1, fl.f2});
-  int64_t undone = 0;
-  for (int round = 0; round < 3 && !changed.empty(); ++round) {
-    std::unordered_set<uint32_t> crossing;
-    for (const auto& [f, g] : intersecting_triangles(m, &changed)) crossing.insert({f, g});
-    changed.clear();
-    for (const FlipRecord& fl : done)
-      if ((crossing.count(fl.f1) || crossing.count(fl.f2)) && m.triangles[fl.f1] != fl.old1) {
-        undo_flip(m.triangles, fl);
-        changed.insert(changed.end(), {fl.f1, fl.f2});
-        ++undone;
-      }
-  }
-  return undone;
-}
-
-// A Delaunay flip (step 1): the edge ab of the faces f1 = abc and f2 = bad becomes cd.
-struct DelaunayFlip {
-  uint32_t f1, f2;
-  Tri n1, n2;
-  uint64_t new_edge;
-};
-
-// The flip of the quad q's edge, if it is not locally Delaunay and its triangles are
-// nearly coplanar (see step 1 in the header).
-std::optional<DelaunayFlip> delaunay_flip(const TriangleMesh& m, const EdgeFaces& edges, const EdgeQuad& q,
-                                          const OptimizeOptions& opt, const FrozenVertices& frozen) {
-  const auto& T = m.triangles;
-  const auto& x = m.vertices;
-  const auto [f1, f2, a, b, c, d] = q;
-  const Tri &t1 = T[f1], &t2 = T[f2];
-  const bool delaunay_already = clearly_delaunay(x[a], x[b], x[c], x[d]) ||
-                                angle_at(x[c], x[a], x[b]) + angle_at(x[d], x[a], x[b]) <= M_PI + 1e-9;
-  if (delaunay_already) return std::nullopt;
-  if (!q.may_flip(edges, frozen)) return std::nullopt;
-  const Tri n1 = q.flipped1(), n2 = q.flipped2();
-  const Eigen::Vector3d o = (area_normal(x, t1).normalized() + area_normal(x, t2).normalized());
-  const Eigen::Vector3d m1 = area_normal(x, n1).normalized(), m2 = area_normal(x, n2).normalized();
-  if (!(m1.dot(m2) >= std::cos(opt.max_flip_dihedral_deg * M_PI / 180)) || !(m1.dot(o) > 0) || !(m2.dot(o) > 0))
-    return std::nullopt;
-  return DelaunayFlip{f1, f2, n1, n2, edge_key(c, d)};
-}
-
-// The flips that `propose` finds, one or none for each edge with a quad (edge_quad; in
-// parallel), in the edges' order; `dist` gets the distances from the surface of each
-// one's old edge's midpoint and its new edge's (ab and cd of a flip whose new faces are
-// adc and bcd).
-template <class Candidate, class Propose>
-std::vector<Candidate> flip_candidates(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                                       Propose&& propose, std::vector<double>& dist) {
-  const auto& x = m.vertices;
-  const EdgeFaces edges(m.triangles, true);
-  const std::vector<uint64_t>& keys = edges.keys();
-  std::vector<std::optional<Candidate>> found(keys.size());
-  tbb::parallel_for(size_t(0), keys.size(), [&](size_t i) {
-    if (const auto q = edge_quad(m.triangles, edges, i)) found[i] = propose(edges, *q);
-  });
-  std::vector<Candidate> cand;
-  std::vector<Eigen::Vector3d> mids;
-  for (const auto& f : found)
-    if (f) {
-      mids.push_back(0.5 * (x[f->n1[0]] + x[f->n2[0]]));  // ab
-      mids.push_back(0.5 * (x[f->n1[1]] + x[f->n1[2]]));  // cd
-      cand.push_back(*f);
-    }
-  dist = surface_distances(s, backend, mids);
-  return cand;
-}
-
-// Whether candidate i's new edge cd lies no farther from the surface than its old edge
-// ab, or than flip_offset of its length (`dist` from flip_candidates).
-template <class Candidate>
-bool new_edge_near_surface(const std::vector<Eigen::Vector3d>& x, const Candidate& f, const std::vector<double>& dist,
-                           size_t i, const OptimizeOptions& opt) {
-  const double len = (x[f.n1[1]] - x[f.n1[2]]).norm();  // d - c
-  return dist[2 * i + 1] <= std::max(dist[2 * i], opt.flip_offset * len);
-}
-
-// The flips of one pass (see the header), applied; returns them.
-std::vector<FlipRecord> flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const OptimizeOptions& opt, const FrozenVertices& frozen) {
-  auto& T = m.triangles;
-  const auto& x = m.vertices;
-  std::vector<double> dist;
-  const auto propose = [&](const EdgeFaces& edges, const EdgeQuad& q) {
-    return delaunay_flip(m, edges, q, opt, frozen);
-  };
-  const std::vector<DelaunayFlip> cand = flip_candidates<DelaunayFlip>(m, s, backend, propose, dist);
-  std::vector<char> locked(T.size(), 0);
-  std::unordered_set<uint64_t> made;
-  std::vector<FlipRecord> done;
-  for (size_t i = 0; i < cand.size(); ++i) {
-    const DelaunayFlip& c = cand[i];
-    if (locked[c.f1] || locked[c.f2] || made.count(c.new_edge)) continue;
-    if (!new_edge_near_surface(x, c, dist, i, opt)) continue;
-    done.push_back(flip_faces(T, c.f1, c.f2, c.n1, c.n2));
-    locked[c.f1] = locked[c.f2] = 1;
-    made.insert(c.new_edge);
-  }
-  return done;
-}
-
-// The angle between two triangles' normals (any lengths), in degrees.
-double normals_angle_deg(const Eigen::Vector3d& n1, const Eigen::Vector3d& n2) {
-  return angle_between(n1, n2) * 180 / M_PI;
-}
-
-// A smoothing flip (step 5): the edge ab of the faces f1 = abc and f2 = bad becomes cd.
-// `near` holds f1, f2 and the four faces across their outer edges.
-struct SmoothFlip {
-  uint32_t f1, f2;
-  Tri n1, n2;
-  uint64_t new_edge;
-  double gain;  // the fall of the five edges' dihedral sum, degrees
-  std::array<uint32_t, 6> near;
-};
-
-// The flip of the quad q's edge, if it makes the surface smoother at little cost to the
-// shapes (see step 5 in the header).
-std::optional<SmoothFlip> smoothing_flip(const TriangleMesh& m, const EdgeFaces& edges, const EdgeQuad& q,
-                                         const OptimizeOptions& opt, const FrozenVertices& frozen) {
-  const auto& T = m.triangles;
-  const auto& x = m.vertices;
-  const auto [f1, f2, a, b, c, d] = q;
-  const Tri& t1 = T[f1];
-  const Eigen::Vector3d o1 = area_normal(x, t1), o2 = area_normal(x, T[f2]);
-  // Flatter than the bound by far more than rounding, told from the cosine (most edges
-  // are; see clearly_delaunay); else from the angle.
-  const double cos_above = std::cos(opt.smooth_flip_above_deg * M_PI / 180);
-  if (o1.dot(o2) / std::sqrt(o1.squaredNorm() * o2.squaredNorm()) > cos_above + 1e-6) return std::nullopt;
-  const double before = normals_angle_deg(o1, o2);
-  if (before < opt.smooth_flip_above_deg) return std::nullopt;
-  if (!q.may_flip(edges, frozen)) return std::nullopt;
-  const Tri n1 = q.flipped1(), n2 = q.flipped2();
-  const Eigen::Vector3d m1 = area_normal(x, n1), m2 = area_normal(x, n2);
-  if (!(m1.dot(o1 + o2) > 0) || !(m2.dot(o1 + o2) > 0)) return std::nullopt;
-  if (triangle_min_angle_below(x[a], x[d], x[c], opt.min_keep_deg) ||
-      triangle_min_angle_below(x[b], x[c], x[d], opt.min_keep_deg))
-    return std::nullopt;
-  const auto across = [&](uint32_t u, uint32_t v, uint32_t f) {
-    const size_t e = edges.find(edge_key(u, v));
-    MPUMESH_ASSERT(e != EdgeFaces::npos, "smoothing_flip: no such edge");
-    const std::span<const uint32_t> g = edges.faces(e);
-    return g.front() == f ? (g.size() > 1 ? g.back() : UINT32_MAX) : g.front();
-  };
-  // The four outer edges: ca and bc were f1's, ad and db f2's.
-  const std::array<uint32_t, 6> near = {f1, f2, across(c, a, f1), across(b, c, f1), across(a, d, f2), across(d, b, f2)};
-  if (std::count(near.begin(), near.end(), UINT32_MAX) > 0) return std::nullopt;
-  const Eigen::Vector3d nca = area_normal(x, T[near[2]]), nbc = area_normal(x, T[near[3]]);
-  const Eigen::Vector3d nad = area_normal(x, T[near[4]]), ndb = area_normal(x, T[near[5]]);
-  const std::array<double, 5> was = {before, normals_angle_deg(o1, nca), normals_angle_deg(o1, nbc),
-                                     normals_angle_deg(o2, nad), normals_angle_deg(o2, ndb)};
-  const std::array<double, 5> now = {normals_angle_deg(m1, m2), normals_angle_deg(m1, nca), normals_angle_deg(m2, nbc),
-                                     normals_angle_deg(m1, nad), normals_angle_deg(m2, ndb)};
-  // No sharper fold than there was: a fold near 180° would hold a flat tetrahedron in a
-  // volume mesh.
-  if (*std::max_element(now.begin(), now.end()) > *std::max_element(was.begin(), was.end())) return std::nullopt;
-  const double gain = std::accumulate(was.begin(), was.end(), 0.0) - std::accumulate(now.begin(), now.end(), 0.0);
-  if (!(gain > opt.smooth_flip_gain_deg)) return std::nullopt;
-  const double shape_loss = triangle_radius_ratio(x[a], x[b], x[c]) + triangle_radius_ratio(x[b], x[a], x[d]) -
-                            triangle_radius_ratio(x[a], x[d], x[c]) - triangle_radius_ratio(x[b], x[c], x[d]);
-  if (shape_loss > opt.smooth_flip_shape_per_deg * gain) return std::nullopt;
-  return SmoothFlip{f1, f2, n1, n2, edge_key(c, d), gain, near};
-}
-
-// The flips of one pass of step 5, applied; returns how many were kept.
-int64_t smoothing_flip_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const OptimizeOptions& opt, const FrozenVertices& frozen) {
-  auto& T = m.triangles;
-  const auto& x = m.vertices;
-  std::vector<double> dist;
-  const auto propose = [&](const EdgeFaces& edges, const EdgeQuad& q) {
-    return smoothing_flip(m, edges, q, opt, frozen);
-  };
-  const std::vector<SmoothFlip> cand = flip_candidates<SmoothFlip>(m, s, backend, propose, dist);
-  // The largest gains first; a face and its neighbours take one flip a pass (the gains
-  // were reckoned with the neighbours as they were), and the new edge must lie as near
-  // the surface as the old one, as in step 1.
-  std::vector<size_t> order(cand.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](size_t i, size_t j) { return cand[i].gain > cand[j].gain; });
-  std::vector<char> locked(T.size(), 0);
-  std::unordered_set<uint64_t> made;
-  std::vector<FlipRecord> done;
-  for (size_t i : order) {
-    const SmoothFlip& f = cand[i];
-    if (made.count(f.new_edge) || std::any_of(f.near.begin(), f.near.end(), [&](uint32_t g) { return locked[g]; }))
-      continue;
-    if (!new_edge_near_surface(x, f, dist, i, opt)) continue;
-    done.push_back(flip_faces(T, f.f1, f.f2, f.n1, f.n2));
-    for (uint32_t g : f.near) locked[g] = 1;
-    made.insert(f.new_edge);
-  }
-  return int64_t(done.size()) - undo_crossing_flips(m, done);
-}
+namespace optimize {
 
 // Whether a triangle whose normal was old_n (of any length) and is new_n after a change is
 // still a triangle, turned by no more than acos(cos_turn).
@@ -299,6 +62,9 @@ bool move_keeps(const std::vector<Eigen::Vector3d>& was, const std::vector<Eigen
   });
   return keeps || smallest_angle(now, T, faces) >= smallest_angle(was, T, faces);
 }
+
+
+namespace {
 
 // One relaxation pass (see the header); returns the vertices that moved.
 std::vector<uint32_t> relax_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
@@ -468,131 +234,6 @@ int64_t collapse_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend&
   return done;
 }
 
-// Step 4's first part (see the header): each vertex of three triangles whose tetrahedron
-// with its three neighbours has a dihedral angle under flat_cap_deg is removed, the
-// triangle of its neighbours taking its three, where that triangle is no triangle yet,
-// each neighbour keeps three triangles and the triangle's smallest angle is at least the
-// three's, or polish_below_deg. The three triangles' area vectors add up to the new
-// one's, so it faces as they did. Returns how many (each a vertex and two triangles
-// fewer); the removed vertex stays in the list, used by no triangle.
-int64_t remove_flat_caps(TriangleMesh& m, const OptimizeOptions& opt, const FrozenVertices& frozen) {
-  auto& T = m.triangles;
-  const auto& x = m.vertices;
-  const auto vf = vertex_faces(m);
-  std::vector<char> locked(x.size(), 0), gone(T.size(), 0);
-  int64_t done = 0;
-  for (uint32_t v = 0; v < x.size(); ++v) {
-    if (vf[v].size() != 3 || frozen[v] || locked[v]) continue;
-    // The ring a, b, c in the order of v's triangles (v, a, b), (v, b, c), (v, c, a).
-    const Tri& first = T[vf[v][0]];
-    const int i = int(std::find(first.begin(), first.end(), v) - first.begin());
-    const uint32_t a = first[size_t((i + 1) % 3)], b = first[size_t((i + 2) % 3)];
-    uint32_t c = UINT32_MAX;
-    for (uint32_t f : vf[v])
-      for (uint32_t w : T[f])
-        if (w != v && w != a && w != b) c = w;
-    const Tri merged = {a, b, c};
-    if (c == UINT32_MAX ||
-        std::any_of(merged.begin(), merged.end(), [&](uint32_t w) { return frozen[w] || locked[w] || vf[w].size() <= 3; }))
-      continue;
-    const std::array<double, 6> dihedral = dihedral_angles(x[v], x[a], x[b], x[c]);
-    if (!(*std::min_element(dihedral.begin(), dihedral.end()) < opt.flat_cap_deg)) continue;
-    const double angle = triangle_min_angle_deg(x[a], x[b], x[c]);
-    if (!(angle >= std::min(opt.polish_below_deg, smallest_angle(x, T, vf[v])))) continue;
-    bool exists = false;  // abc already a triangle (a speck of four vertices)
-    for (uint32_t f : vf[a])
-      exists = exists || (std::count(T[f].begin(), T[f].end(), b) && std::count(T[f].begin(), T[f].end(), c) &&
-                          !std::count(T[f].begin(), T[f].end(), v));
-    if (exists) continue;
-    T[vf[v][0]] = merged;
-    gone[vf[v][1]] = gone[vf[v][2]] = 1;
-    locked[v] = locked[a] = locked[b] = locked[c] = 1;
-    ++done;
-  }
-  drop_gone_faces(T, gone);
-  return done;
-}
-
-// Step 4's places for each vertex of `verts` (kPlaces each, in order): its neighbours'
-// mean, then 12 directions at 5, 15 and 30% of its shortest edge, all in its tangent plane
-// (the mean of its triangles' normals), then put on f = 0 on the backend.
-constexpr int kDirections = 12;
-constexpr double kSteps[] = {0.05, 0.15, 0.3};
-constexpr size_t kPlaces = 1 + kDirections * std::size(kSteps);
-particles::ParticleState polish_places(const TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                                       const std::vector<double>& spacing, const OptimizeOptions& opt,
-                                       const VertexFaces& vf, const std::vector<uint32_t>& verts) {
-  const auto& T = m.triangles;
-  const auto& x = m.vertices;
-  particles::ParticleState st;
-  st.resize(verts.size() * kPlaces);
-  for (size_t i = 0; i < verts.size(); ++i) {
-    const uint32_t v = verts[i];
-    Eigen::Vector3d nrm = Eigen::Vector3d::Zero(), mean = Eigen::Vector3d::Zero();
-    double shortest = INFINITY;
-    int count = 0;
-    for (uint32_t f : vf[v]) {
-      nrm += area_normal(x, T[f]);
-      for (uint32_t w : T[f])
-        if (w != v) mean += x[w], ++count, shortest = std::min(shortest, (x[w] - x[v]).norm());
-    }
-    nrm.normalize();
-    const Eigen::Vector3d u = nrm.unitOrthogonal(), w = nrm.cross(u);
-    size_t k = i * kPlaces;
-    const Eigen::Vector3d to_mean = mean / count - x[v];
-    st.x[k++] = x[v] + to_mean - to_mean.dot(nrm) * nrm;
-    for (double step : kSteps)
-      for (int d = 0; d < kDirections; ++d) {
-        const double a = 2 * M_PI * d / kDirections;
-        st.x[k++] = x[v] + step * shortest * (std::cos(a) * u + std::sin(a) * w);
-      }
-    for (size_t j = i * kPlaces; j < k; ++j) st.sigma[j] = spacing[v];
-  }
-  project_onto_surface(s, backend, st, opt);
-  return st;
-}
-
-// Step 4 (see the header): each vertex of a triangle still under polish_below_deg takes,
-// of its places (polish_places), the one that most raises the smallest angle around it,
-// turning no triangle by more than max_turn_deg; one vertex after another. Returns the
-// moves made.
-int64_t polish_pass(TriangleMesh& m, const mpu::MpuSurface& s, ComputeBackend& backend,
-                    const std::vector<double>& spacing, const OptimizeOptions& opt, const FrozenVertices& frozen) {
-  const auto& T = m.triangles;
-  auto& x = m.vertices;
-  std::vector<uint32_t> verts;
-  for (const Tri& t : T)
-    if (triangle_min_angle_below(x[t[0]], x[t[1]], x[t[2]], opt.polish_below_deg))
-      for (uint32_t v : t)
-        if (!frozen[v]) verts.push_back(v);
-  std::sort(verts.begin(), verts.end());
-  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-  if (verts.empty()) return 0;
-  const auto vf = vertex_faces(m);
-  const particles::ParticleState st = polish_places(m, s, backend, spacing, opt, vf, verts);
-  const double cos_turn = std::cos(opt.max_turn_deg * M_PI / 180);
-  int64_t moved = 0;
-  for (size_t i = 0; i < verts.size(); ++i) {
-    const uint32_t v = verts[i];
-    const Eigen::Vector3d home = x[v];
-    std::vector<Eigen::Vector3d> normals;
-    for (uint32_t f : vf[v]) normals.push_back(area_normal(x, T[f]));
-    double best = smallest_angle(x, T, vf[v]);
-    Eigen::Vector3d best_at = home;
-    for (size_t j = i * kPlaces; j < (i + 1) * kPlaces; ++j) {
-      if (!landed(st, j)) continue;
-      x[v] = st.x[j];
-      bool ok = true;
-      for (size_t q = 0; q < vf[v].size() && ok; ++q) ok = turned_within(normals[q], area_normal(x, T[vf[v][q]]), cos_turn);
-      const double angle = ok ? smallest_angle(x, T, vf[v]) : -1;
-      if (angle > best + 1e-9) best = angle, best_at = x[v];
-    }
-    x[v] = best_at;
-    moved += best_at != home;
-  }
-  return moved;
-}
-
 // The rounds' counts set to zero (before the rounds, and when none of them is kept).
 void clear_counts(OptimizeStats& st) {
   st.rounds = 0, st.flips = 0, st.moves = 0, st.collapses = 0, st.polish_moves = 0, st.smooth_flips = 0;
@@ -620,6 +261,7 @@ void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBacken
 }
 
 }  // namespace
+}  // namespace optimize
 
 ShapeFigures shape_figures(const TriangleMesh& m) {
   ShapeFigures s;
@@ -650,13 +292,13 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
   FrozenVertices frozen(mesh.vertices.size());
   for (int attempt = 0;; ++attempt) {
     mesh = input;
-    optimize_rounds(mesh, s, backend, spacing, opt, frozen, st);
+    optimize::optimize_rounds(mesh, s, backend, spacing, opt, frozen, st);
     const auto pairs = intersecting_triangles(mesh);
     if (pairs.empty()) break;
     st.retries = attempt + 1;
     if (attempt == 2) {
       mesh = input;
-      clear_counts(st);
+      optimize::clear_counts(st);
       break;
     }
     for (const auto& [a, b] : pairs)
@@ -670,3 +312,4 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
 }
 
 }  // namespace mpumesh
+

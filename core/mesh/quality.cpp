@@ -95,13 +95,26 @@ double triangle_radius_ratio(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
   return den > 0 ? 16.0 * area * area / den : 0.0;
 }
 
+TriangleShapes triangle_shapes(const TriangleMesh& mesh) {
+  TriangleShapes s;
+  s.min_angle_deg.reserve(mesh.triangles.size());
+  s.radius_ratio.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d &a = mesh.vertices[t[0]], &b = mesh.vertices[t[1]], &c = mesh.vertices[t[2]];
+    s.min_angle_deg.push_back(triangle_min_angle_deg(a, b, c));
+    s.radius_ratio.push_back(triangle_radius_ratio(a, b, c));
+  }
+  return s;
+}
+
 Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt) {
   Quality q;
   q.topo = analyze_topology(mesh);
   const size_t nf = mesh.triangles.size();
   if (nf == 0) return q;
   std::vector<Eigen::Vector3d> normal(nf);
-  std::vector<double> min_angle(nf);
+  const TriangleShapes shapes = triangle_shapes(mesh);
+  const std::vector<double>& min_angle = shapes.min_angle_deg;
   double edge_sum = 0;
   int64_t edge_count = 0;
   q.edge_min = INFINITY;
@@ -125,10 +138,9 @@ Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt) {
       edge_sum += len;
       ++edge_count;
     }
-    min_angle[f] = triangle_min_angle_deg(a, b, c);
     q.angle_mean += min_angle[f];
     for (int k = 0; k < 3; ++k) below[k] += min_angle[f] < 10.0 * (k + 1);
-    const double rr = triangle_radius_ratio(a, b, c);
+    const double rr = shapes.radius_ratio[f];
     ratio_sum += rr;
     ratio_below += rr < 0.5;
   }

@@ -40,6 +40,12 @@ struct QualityOptions {
 };
 
 Quality measure_quality(const TriangleMesh& mesh, const QualityOptions& opt = {});
+
+// Each triangle's smallest angle (degrees) and radius ratio (as below), in order.
+struct TriangleShapes {
+  std::vector<double> min_angle_deg, radius_ratio;
+};
+TriangleShapes triangle_shapes(const TriangleMesh& mesh);
 nlohmann::json quality_to_json(const Quality& q);
 std::string quality_to_text(const Quality& q);
 

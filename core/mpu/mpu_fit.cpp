@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "common/lap_timer.h"
 #include "common/kd_tree.h"
 #include "mpu/ball_search.h"
@@ -34,16 +35,16 @@ const char* local_fit_name(LocalFit f) { return f == LocalFit::kOrthopoly ? "ort
 
 void validate(const FitOptions& o) {
   auto need = [](bool ok, const char* name, const char* what) {
-    if (!ok) throw InputError(std::string("fit: --") + name + " must be " + what);
+    if (!ok) throw InputError("fit: " + option_ref(name) + " must be " + what);
   };
   need(std::isfinite(o.eps) && o.eps >= 0, "eps", "zero (automatic) or positive");
   need(o.nmin >= 6 && o.nmin <= 100000, "nmin", "between 6 and 100000");
   need(std::isfinite(o.alpha) && o.alpha >= 0.5 && o.alpha <= 4, "alpha", "between 0.5 and 4");
   need(std::isfinite(o.lambda) && o.lambda > 0 && o.lambda <= 1, "lambda", "in (0, 1]");
-  need(std::isfinite(o.min_radius), "min-radius", "a number (negative: automatic)");
-  need(o.max_depth >= 0 && o.max_depth <= 16, "max-depth", "between 0 and 16");
-  need(o.max_degree >= 2 && o.max_degree <= 4, "max-degree", "2, 3 or 4");
-  need(o.grid_cells >= 0 && o.grid_cells <= 512, "grid-cells", "between 0 (automatic) and 512");
+  need(std::isfinite(o.min_radius), "min_radius", "a number (negative: automatic)");
+  need(o.max_depth >= 0 && o.max_depth <= 16, "max_depth", "between 0 and 16");
+  need(o.max_degree >= 2 && o.max_degree <= 4, "max_degree", "2, 3 or 4");
+  need(o.grid_cells >= 0 && o.grid_cells <= 512, "grid_cells", "between 0 (automatic) and 512");
 }
 
 namespace {
@@ -559,7 +560,7 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   int64_t duplicates = 0;
   const PointCloud cloud = without_duplicates(input, &duplicates);
   if (cloud.size() < size_t(opt.nmin))
-    throw InputError("fit: " + std::to_string(cloud.size()) + " distinct points, fewer than --nmin " +
+    throw InputError("fit: " + std::to_string(cloud.size()) + " distinct points, fewer than " + option_ref("nmin") + " " +
                      std::to_string(opt.nmin));
   check_not_flat(cloud);
   MpuSurface s;

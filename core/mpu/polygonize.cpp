@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "mc/marching_cubes.h"
 #include "mpu/mpu_eval_ref.h"
 #include "mc/marching_cubes_ref.h"
@@ -16,7 +17,7 @@ namespace mpumesh::mpu {
 TriangleMesh polygonize(const MpuSurface& s, double cell, ComputeBackend& backend, PolygonizeStats* stats) {
   const Eigen::Vector3d ext = s.data_max - s.data_min;
   if (!(cell > 0)) cell = std::max(ext.maxCoeff(), 1e-3) / 200.0;
-  if (!std::isfinite(cell)) throw InputError("polygonize: --cell must be a positive number of mm");
+  if (!std::isfinite(cell)) throw InputError("polygonize: " + option_ref("cell") + " must be a positive number of mm");
   // Two cells beyond the data box on each side, so that the surface closes inside the grid.
   Volume grid;
   grid.spacing = Eigen::Vector3d::Constant(cell);
@@ -28,8 +29,8 @@ TriangleMesh polygonize(const MpuSurface& s, double cell, ComputeBackend& backen
   }
   if (points > double(1 << 30))
     throw InputError(fmt::format("polygonize: a {:.3g} mm cell gives {:.3g} grid points over the {:.0f} x {:.0f} x "
-                                 "{:.0f} mm surface (limit 2^30); use a larger --cell",
-                                 cell, points, ext.x(), ext.y(), ext.z()));
+                                 "{:.0f} mm surface (limit 2^30); use a larger {}",
+                                 cell, points, ext.x(), ext.y(), ext.z(), option_ref("cell")));
   const auto t0 = std::chrono::steady_clock::now();
   // The padded field of core/mc/mc_field.h: inside >= 0, one layer of outside padding.
   mc::McField field;

@@ -41,7 +41,7 @@ namespace mpumesh::particles {
 // points' sampling gap. It is the count at which the sample CT's bone meets the quality
 // targets with a margin (fewer leave its thin plates to the triangulation's repair).
 constexpr int64_t kDefaultParticles = 40000;
-// For a surface from a volume (SampleOptions::voxel_size > 0), the default instead sets
+// For a surface from a volume (SampleSource::voxel_size > 0), the default instead sets
 // the spacing in the scan's terms and the count follows from it: a flat spacing h of
 // kDefaultFlatVoxels in-plane voxels (about what a mean spacing of 2.5 voxels solved for
 // before, on the phantoms and the sample CT), the bend bound (normal_turn) no finer than
@@ -55,7 +55,6 @@ constexpr double kMinBendVoxels = 2;
 
 struct SampleOptions {
   int64_t particles = 0;        // target count; 0 = from spacing
-  double voxel_size = 0;        // in-plane voxel (mm) of the volume the surface came from; 0: none
   double spacing = 0;           // h, mm; 0 = from particles (or the default)
   double curvature_scale = 1.0; // S: spacing at the highest |K| is exp(-S) of the base spacing
   double thickness_factor = 1.0;
@@ -75,10 +74,18 @@ struct SampleOptions {
   double spacing_grade = 0.3;
   uint32_t seed = 1;
   int64_t max_particles = 0;    // cap on the population; 0 = 1.05 x the count the targets ask for
+  StepParams step;
+};
+
+// What a sampling knows of where its surface came from, beside the options its caller
+// chose (the pipeline derives it from the input).
+struct SampleSource {
+  // The in-plane voxel (mm) of the volume the surface came from (0: none): the default
+  // size follows it (kDefaultFlatVoxels, kMinBendVoxels).
+  double voxel_size = 0;
   // The candidates' median distance to their 12th nearest (median_spacing with the
   // candidate index), when the caller has measured it; 0: measured here.
   double candidate_gap = 0;
-  StepParams step;
 };
 
 // The spacing s whose six neighbours give a particle of radius σ the desired energy
@@ -86,14 +93,13 @@ struct SampleOptions {
 // a spacing of σ̂ times this.
 inline double spacing_per_sigma() { return std::sqrt(2 * std::log(15.0)); }
 
-// Throws InputError naming the option as `command` spells it (run calls the iteration cap
-// --particle-iterations).
 // Throws NumericalError naming the iteration and the device when a particle's position,
 // σ, energy or curvature is not finite (checked after seeding and after every batch).
 void check_finite(const ParticleState& st, int iteration, const std::string& device);
 
-void validate(const SampleOptions& o, const std::string& command = "sample",
-              const std::string& iterations_flag = "iterations");
+// Throws InputError naming the option (common/option_names.h; the iteration cap is
+// `particle_iterations`, the flat spacing `particle_spacing`).
+void validate(const SampleOptions& o);
 
 struct PopulationRecord {
   int iteration = 0;
@@ -135,7 +141,7 @@ StepParams batch_params(const StepParams& step, const ParticleState& st);
 // caller has one (else one is built).
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
                              const SampleOptions& opt, ComputeBackend& backend, SampleStats* stats = nullptr,
-                             const KdTree* candidate_index = nullptr);
+                             const KdTree* candidate_index = nullptr, const SampleSource& source = {});
 
 // Candidate seeds when no input points are at hand: the centres of the leaves that held
 // points.

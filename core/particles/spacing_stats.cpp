@@ -99,4 +99,20 @@ SpacingStats spacing_stats(const std::vector<double>& spacing, const std::vector
   return s;
 }
 
+SpacingSummary spacing_summary(const SampleStats& st, const ParticleState& ps) {
+  std::vector<double> absk(ps.size());
+  for (size_t i = 0; i < ps.size(); ++i)
+    absk[i] = std::abs(i < st.gauss_at_scale.size() ? st.gauss_at_scale[i] : ps.curv[i].gauss);
+  const std::vector<double> spacing = local_spacing(ps.x);
+  SpacingSummary out;
+  out.all = spacing_stats(spacing, absk);
+  std::vector<double> curved_spacing, curved_absk;
+  for (size_t i = 0; i < ps.size(); ++i)
+    if (i < st.spacing_by_thickness.size() && !st.spacing_by_thickness[i])
+      curved_spacing.push_back(spacing[i]), curved_absk.push_back(absk[i]);
+  out.curved = spacing_stats(curved_spacing, curved_absk);
+  out.curved_particles = int64_t(curved_spacing.size());
+  return out;
+}
+
 }  // namespace mpumesh::particles

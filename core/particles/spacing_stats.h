@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "common/kd_tree.h"
+#include "particles/particle_system.h"
 
 namespace mpumesh::particles {
 
@@ -23,6 +24,17 @@ struct SpacingStats {
   double rank_correlation = 0;   // Spearman, spacing vs |K|
 };
 SpacingStats spacing_stats(const std::vector<double>& spacing, const std::vector<double>& abs_gauss);
+
+// The particles' spacing (local_spacing) against |K| at the sampling's scale
+// (SampleStats::gauss_at_scale): over all of them, and over those whose spacing their
+// curvature sets rather than a plate's thickness (SampleStats::spacing_by_thickness), the
+// relation the curvature weight is for: thin plates are flat and sampled densely, which
+// can turn the relation over all of them around.
+struct SpacingSummary {
+  SpacingStats all, curved;
+  int64_t curved_particles = 0;
+};
+SpacingSummary spacing_summary(const SampleStats& stats, const ParticleState& particles);
 
 // Spearman's rank correlation of a and b (average ranks for ties).
 double rank_correlation(const std::vector<double>& a, const std::vector<double>& b);

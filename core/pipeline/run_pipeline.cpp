@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
 #include <type_traits>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "common/memory.h"
 #include "common/text.h"
 #include "io/mesh_io.h"
@@ -38,10 +40,11 @@ auto stage(Observer& obs, const std::string& name, F&& work) {
   }
 }
 
-// The state the stages share.
+// The state the stages share: the caller's options as given, and the result, whose
+// `derived` the stages fill in with what follows from the input.
 struct Run {
   const std::string& input;
-  RunOptions opt;  // a copy: the stages fill in what follows from the input
+  const RunOptions& opt;
   const BackendOpener& open;
   Observer& obs;
   RunResult& r;
@@ -86,12 +89,10 @@ PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
   const auto grid = voxel_grid_spacing(in);
   PointCloud cloud = stage(run.obs, "points", [&] { return pts::mesh_points(in, !grid); });
   if (cloud.size() == 0) throw InputError(run.input + ": the mesh has no triangle with an area");
-  run.r.input.mesh = true;
-  run.r.input.vertices = in.vertices.size();
-  run.r.input.triangles = in.triangles.size();
+  run.r.input.mesh = MeshInput{in.vertices.size(), in.triangles.size()};
   if (grid) {
     const double voxel = grid->minCoeff();
-    run.opt.sample.voxel_size = voxel;
+    run.r.derived.sample_source.voxel_size = voxel;
     if (!(run.opt.fit.eps > 0)) {
       run.tolerance_pixel = voxel;
       run.tolerance_grid = *grid;
@@ -104,11 +105,11 @@ PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
 
 // A label's indicator is segmented at 0.5, and its caps stop short of other labels
 // (seg/label_map.h).
-void use_label(RunOptions& opt) {
-  opt.segment.method = seg::Method::kThreshold;
-  opt.segment.threshold = mc::ThresholdRange{0.5};
-  opt.points.caps_to_field_crossing = true;
-  opt.points.partial_volume_caps = false;  // a label map has no partial volume
+void use_label(Derived& d) {
+  d.segment.method = seg::Method::kThreshold;
+  d.segment.threshold = mc::ThresholdRange{0.5};
+  d.points.caps_to_field_crossing = true;
+  d.points.partial_volume_caps = false;  // a label map has no partial volume
 }
 
 // A volume to its slice points; the fit's tolerance and the default count follow the scan.
@@ -117,26 +118,22 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
   std::optional<Volume> indicator;
   if (run.opt.label > 0) indicator = stage(run.obs, "label", [&] { return seg::label_indicator(scan, run.opt.label); });
   const Volume& vol = indicator ? *indicator : scan;
-  const seg::Segmentation s =
-      stage(run.obs, "segment", [&] { return seg::segment(vol, run.opt.segment, *run.backend); });
-  pts::SlicePoints p = stage(run.obs, "points", [&] { return pts::extract_points(s, vol, run.opt.points); });
+  const Derived& d = run.r.derived;
+  const seg::Segmentation s = stage(run.obs, "segment", [&] { return seg::segment(vol, d.segment, *run.backend); });
+  pts::SlicePoints p = stage(run.obs, "points", [&] { return pts::extract_points(s, vol, d.points); });
   if (p.cloud.size() == 0)
     throw InputError(run.input + (run.opt.label > 0 ? ": the label holds no surface"
                                                     : ": the segmentation holds no surface (nothing inside the "
                                                       "threshold range?)"));
-  run.opt.sample.voxel_size = vol.in_plane_spacing();  // the default count follows it
+  run.r.derived.sample_source.voxel_size = vol.in_plane_spacing();  // the default count follows it
   // No eps given: the tolerance follows the scan (set_tolerance).
   if (!(run.opt.fit.eps > 0)) run.tolerance_pixel = vol.in_plane_spacing();
   run.voxels = vol.voxel_count();
-  InputInfo& in = run.r.input;
-  in.dims = vol.dims;
-  in.spacing = vol.spacing;
-  in.modality = vol.modality;
-  in.read_notes = vol.read_notes;
+  run.r.input.volume = VolumeInput{vol.dims, vol.spacing, vol.modality, vol.read_notes};
   run.r.segmentation = seg::summarize(s);
   if (run.opt.baselines)
     run.r.baselines.push_back({"marching cubes", stage(run.obs, "marching cubes (report)", [&] {
-                                 return marching_cubes(vol, run.opt.segment.threshold, *run.backend);
+                                 return marching_cubes(vol, d.segment.threshold, *run.backend);
                                })});
   return std::move(p.cloud);
 }
@@ -144,7 +141,7 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
 // The fit's tolerance from the points' scatter (mpu/fit_tolerance.h), for the points of a
 // scan or a voxel-grid mesh when no eps was given.
 void set_tolerance(Run& run, const PointCloud& cloud, const KdTree& index) {
-  mpu::Tolerance& t = run.r.tolerance;
+  mpu::Tolerance& t = run.r.derived.tolerance;
   t = mpu::volume_tolerance(cloud, run.tolerance_pixel, &index);
   if (const auto& grid = run.tolerance_grid) {
     const std::string on_grid = fmt::format("the {:.3f} x {:.3f} x {:.3f} mm voxel grid the input's vertices lie on",
@@ -153,7 +150,7 @@ void set_tolerance(Run& run, const PointCloud& cloud, const KdTree& index) {
                    ? fmt::format("3 x the vertices' scatter ({:.3f} mm), above the finest spacing of {}", t.noise, on_grid)
                    : fmt::format("the finest spacing of {}; the vertices' scatter is {:.3f} mm", on_grid, t.noise);
   }
-  run.opt.fit.eps = t.eps;
+  run.r.derived.fit.eps = t.eps;
 }
 
 // Particles and their restricted Delaunay triangulation, sampled again with kRaise times
@@ -165,12 +162,13 @@ void sample_and_triangulate(Run& run, const PointCloud& cloud, const KdTree& ind
   const bool count_given = asked.particles > 0 || asked.spacing > 0;
   int retries = run.opt.count_retries >= 0 ? run.opt.count_retries : count_given ? 0 : 2;
   particles::SampleOptions so = asked;
+  particles::SampleSource& source = r.derived.sample_source;
   // The fit measured the points' gap over the same points and tree, unless it dropped
-  // duplicates (0.02 s on the sample CT).
-  if (r.fit.duplicates_removed == 0) so.candidate_gap = r.fit.gap12;
+  // duplicates.
+  if (r.fit.duplicates_removed == 0) source.candidate_gap = r.fit.gap12;
   for (;;) {
     run.obs.begin("particles");
-    r.particles = particles::sample_surface(r.surface, cloud.positions, so, *run.backend, &r.sample, &index);
+    r.particles = particles::sample_surface(r.surface, cloud.positions, so, *run.backend, &r.sample, &index, source);
     // The particle kernels' device times, before a later stage's kernels replace them.
     r.particle_kernel_ms = run.backend->kernel_ms();
     run.obs.end();
@@ -189,15 +187,15 @@ void sample_and_triangulate(Run& run, const PointCloud& cloud, const KdTree& ind
                                               : fmt::format("{} particles", next.particles)));
     so = next;
     // (By spacing, the count grows by the same factor.)
-    r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()),
-                                           so.particles > 0 ? so.particles
-                                                            : int64_t(double(r.particles.size()) * kRaise),
-                                           run.opt.volume_mesh);
-    check_memory(run.input, r.memory_estimate);
+    r.derived.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()),
+                                                   so.particles > 0 ? so.particles
+                                                                    : int64_t(double(r.particles.size()) * kRaise),
+                                                   run.opt.volume_mesh.has_value());
+    check_memory(run.input, r.derived.memory_estimate);
     r.mesh = TriangleMesh{};
     r.particles = particles::ParticleState{};
   }
-  r.sample_options = so;
+  r.derived.sample = so;
   r.sparse = too_sparse(r.triangulation, r.particles.size());
 }
 
@@ -246,22 +244,22 @@ void attach_and_check(Run& run) {
 // The components the filter keeps (mesh/component_filter.h); none left is an error.
 void keep_components(Run& run) {
   RunResult& r = run.r;
-  FilteredMesh f = stage(run.obs, "keep components", [&] { return filter_components(r.mesh, r.components); });
-  if (f.mesh.triangles.empty() && r.components.min_volume_mm3 > run.opt.components.min_volume_mm3)
+  const ComponentOptions& filter = r.derived.components;
+  FilteredMesh f = stage(run.obs, "keep components", [&] { return filter_components(r.mesh, filter); });
+  if (f.mesh.triangles.empty() && filter.min_volume_mm3 > run.opt.components.min_volume_mm3)
     throw InputError(fmt::format("{}: every structure is a speck, enclosing less than {:.3g} mm3 ({:g} voxels), below "
-                                 "what the scan resolves (--keep-specks keeps them); nothing written",
-                                 run.input, r.components.min_volume_mm3, run.opt.speck_voxels));
-  require_kept(f, r.components, run.input);
+                                 "what the scan resolves ({} keeps them); nothing written",
+                                 run.input, filter.min_volume_mm3, run.opt.speck_voxels, option_ref("keep_specks")));
+  require_kept(f, filter, run.input);
   r.mesh = std::move(f.mesh);
-  r.components_kept = f.kept;
-  r.components_dropped = std::move(f.dropped);
+  r.components = ComponentsKept{f.kept, std::move(f.dropped)};
 }
 
 // The note a still too sparse sample gets, with the count that should do better.
 std::string sparse_note(const RunResult& r) {
-  const particles::SampleOptions more = denser(r.sample_options, r.sample.asked);
-  const std::string option = more.spacing > 0 ? fmt::format("--spacing {:.2f}", more.spacing)
-                                              : fmt::format("--particles {}", more.particles);
+  const particles::SampleOptions more = denser(r.derived.sample, r.sample.asked);
+  const std::string option = more.spacing > 0 ? fmt::format("{} {:.2f}", option_ref("particle_spacing"), more.spacing)
+                                              : fmt::format("{} {}", option_ref("particles"), more.particles);
   return fmt::format(
       "the triangulation added {} repair points to {} particles ({:.0f}%): the particles are too sparse for this "
       "surface's thin plates, and the triangles next to repair points are poor; {} times as many particles ({}) "
@@ -274,53 +272,101 @@ int64_t asked_particles(const RunOptions& options) {
   return options.sample.particles > 0 ? options.sample.particles : particles::kDefaultParticles;
 }
 
-// Every stage after reading, on a volume (`scan`) or a mesh; `input` names it in messages.
-RunResult run_stages(const std::string& input, const Volume* scan, const TriangleMesh* mesh,
-                     const RunOptions& options, const BackendOpener& open_backend, Observer& obs) {
-  RunResult r;
-  Run run{input, options, open_backend, obs, r};
-  if (options.label > 0) use_label(run.opt);
-  r.input.path = scan ? scan->source : input;  // the file, without the label
-  r.segment_options = run.opt.segment;
-  r.eps_given = options.fit.eps > 0;
-  const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run, *mesh);
-  r.points = cloud.size();
-  // One k-d tree over the points for the noise estimate, the fit and the sampling's pool
-  // (nanoflann builds on one core: 0.05 s a tree for the sample CT's 260,000 points).
-  const PointIndex index(cloud.positions);
-  if (run.tolerance_pixel > 0) set_tolerance(run, cloud, index.tree);
-  // By default from a volume the count follows the surface (particles/particle_system.h):
-  // 0.61 particles a point on the sample CT, 0.38 on it at full resolution, up to 1.4 on
-  // the small phantoms; one a point is the estimate.
-  const bool count_follows = scan && options.sample.particles == 0 && options.sample.spacing == 0;
-  const int64_t asked =
-      count_follows ? std::max(particles::kDefaultParticles, int64_t(cloud.size())) : asked_particles(options);
-  r.memory_estimate = estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked, options.volume_mesh);
-  check_memory(input, r.memory_estimate);
-  r.fit_options = run.opt.fit;
-  r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, run.opt.fit, &r.fit, &index.tree); });
-  sample_and_triangulate(run, cloud, index.tree);
-  r.components = options.components;
+// The caller's observer, with each stage's time kept for the result.
+class TimedObserver : public Observer {
+ public:
+  explicit TimedObserver(Observer* inner) : inner_(inner ? *inner : quiet_) {}
+  void begin(const std::string& stage) override {
+    stage_ = stage;
+    t0_ = std::chrono::steady_clock::now();
+    inner_.begin(stage);
+  }
+  void end() override {
+    times_.emplace_back(stage_, std::chrono::duration<double>(std::chrono::steady_clock::now() - t0_).count());
+    inner_.end();
+  }
+  void note(const std::string& line) override { inner_.note(line); }
+  std::vector<std::pair<std::string, double>> take_times() { return std::move(times_); }
+
+ private:
+  Observer quiet_;
+  Observer& inner_;
+  std::string stage_;
+  std::chrono::steady_clock::time_point t0_;
+  std::vector<std::pair<std::string, double>> times_;
+};
+
+// What the run derives before its stages: the options each stage starts from, and where
+// the fit's tolerance comes from when no stage measures it.
+void start_derived(Derived& d, const RunOptions& options) {
+  d.segment = options.segment;
+  d.points = options.points;
+  if (options.label > 0) use_label(d);
+  d.fit = options.fit;
+  d.eps_given = options.fit.eps > 0;
+  if (d.eps_given) {
+    d.tolerance.eps = options.fit.eps;
+    d.tolerance.source = option_ref("eps");
+  } else {
+    d.tolerance.source = "a quarter of the points' median spacing";
+  }
+}
+
+// The components filter as applied: from a volume, with the specks' bound.
+ComponentOptions applied_filter(const RunOptions& options, const Volume* scan) {
+  ComponentOptions f = options.components;
   if (scan && options.speck_voxels > 0)
-    r.components.min_volume_mm3 =
-        std::max(r.components.min_volume_mm3, options.speck_voxels * scan->spacing.prod());
-  if (r.components.active()) keep_components(run);  // before the optimisation, which then has less to do
-  optimize(run);
-  attach_and_check(run);
-  if (options.quality) {
-    r.quality = stage(run.obs, "quality", [&] { return measure_quality(r.mesh, options.quality_options); });
-    r.has_quality = true;
-  }
+    f.min_volume_mm3 = std::max(f.min_volume_mm3, options.speck_voxels * scan->spacing.prod());
+  return f;
+}
+
+// The stages after the mesh is made: quality, the volume mesh, the notes, the baselines.
+void measure_and_fill(Run& run) {
+  RunResult& r = run.r;
+  const RunOptions& options = run.opt;
+  if (options.quality) r.quality = stage(run.obs, "quality", [&] { return measure_quality(r.mesh, *options.quality); });
+  if (options.spacing_figures) r.spacing = particles::spacing_summary(r.sample, r.particles);
   if (options.volume_mesh) {
-    r.volume = stage(run.obs, "volume mesh", [&] { return tetrahedralize(r.mesh, options.tet, &r.volume_stats); });
-    r.has_volume = true;
+    VolumeMeshResult v;
+    v.options = *options.volume_mesh;
+    v.mesh = stage(run.obs, "volume mesh", [&] { return tetrahedralize(r.mesh, v.options, &v.stats); });
+    r.volume = std::move(v);
   }
-  r.notes = r.input.read_notes;
+  if (r.input.volume) r.notes = r.input.volume->read_notes;
   if (r.sparse) r.notes.push_back(sparse_note(r));  // the last note
   if (options.baselines)
     r.baselines.push_back({"original MPU", stage(run.obs, "original MPU (report)", [&] {
                              return mpu::polygonize(r.surface, 0, *run.backend);
                            })});
+}
+
+// Every stage after reading, on a volume (`scan`) or a mesh; `input` names it in messages.
+RunResult run_stages(const std::string& input, const Volume* scan, const TriangleMesh* mesh,
+                     const RunOptions& options, const BackendOpener& open_backend, Observer& obs) {
+  RunResult r;
+  Run run{input, options, open_backend, obs, r};
+  start_derived(r.derived, options);
+  r.input.path = scan ? scan->source : input;  // the file, without the label
+  const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run, *mesh);
+  r.points = cloud.size();
+  // One k-d tree over the points for the noise estimate, the fit and the sampling's pool.
+  const PointIndex index(cloud.positions);
+  if (run.tolerance_pixel > 0) set_tolerance(run, cloud, index.tree);
+  // By default from a volume the count follows the surface (particles/particle_system.h);
+  // one particle a point is the estimate.
+  const bool count_follows = scan && options.sample.particles == 0 && options.sample.spacing == 0;
+  const int64_t asked =
+      count_follows ? std::max(particles::kDefaultParticles, int64_t(cloud.size())) : asked_particles(options);
+  r.derived.memory_estimate =
+      estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked, options.volume_mesh.has_value());
+  check_memory(input, r.derived.memory_estimate);
+  r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, r.derived.fit, &r.fit, &index.tree); });
+  sample_and_triangulate(run, cloud, index.tree);
+  r.derived.components = applied_filter(options, scan);
+  if (r.derived.components.active()) keep_components(run);  // before the optimisation, which then has less to do
+  optimize(run);
+  attach_and_check(run);
+  measure_and_fill(run);
   return r;
 }
 
@@ -338,32 +384,38 @@ bool is_mesh_path(const std::string& path) {
 
 RunResult run_pipeline(const std::string& input, const RunOptions& options, const BackendOpener& open_backend,
                        Observer* observer) {
-  Observer quiet;
-  Observer& obs = observer ? *observer : quiet;
+  TimedObserver obs(observer);
   // Memory: the particles alone first, then with the volume and the points, before the
   // fit, the particles and the triangulation start.
   check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
+  RunResult r;
   if (is_mesh_path(input)) {
     const TriangleMesh mesh = stage(obs, "read mesh", [&] { return read_mesh(input); });
-    return run_stages(input, nullptr, &mesh, options, open_backend, obs);
+    r = run_stages(input, nullptr, &mesh, options, open_backend, obs);
+  } else {
+    const Volume scan = stage(obs, "read volume", [&] { return read_volume(input); });
+    r = run_stages(input_name(scan, options), &scan, nullptr, options, open_backend, obs);
   }
-  const Volume scan = stage(obs, "read volume", [&] { return read_volume(input); });
-  return run_stages(input_name(scan, options), &scan, nullptr, options, open_backend, obs);
+  r.stage_seconds = obs.take_times();
+  return r;
 }
 
 RunResult run_pipeline(const Volume& volume, const RunOptions& options, const BackendOpener& open_backend,
                        Observer* observer) {
-  Observer quiet;
+  TimedObserver obs(observer);
   check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
-  return run_stages(input_name(volume, options), &volume, nullptr, options, open_backend,
-                    observer ? *observer : quiet);
+  RunResult r = run_stages(input_name(volume, options), &volume, nullptr, options, open_backend, obs);
+  r.stage_seconds = obs.take_times();
+  return r;
 }
 
 RunResult run_pipeline(const TriangleMesh& mesh, const std::string& name, const RunOptions& options,
                        const BackendOpener& open_backend, Observer* observer) {
-  Observer quiet;
+  TimedObserver obs(observer);
   check_memory("run", estimate_run_bytes(0, 0, asked_particles(options)));
-  return run_stages(name, nullptr, &mesh, options, open_backend, observer ? *observer : quiet);
+  RunResult r = run_stages(name, nullptr, &mesh, options, open_backend, obs);
+  r.stage_seconds = obs.take_times();
+  return r;
 }
 
 }  // namespace mpumesh::pipeline

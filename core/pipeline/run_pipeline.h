@@ -3,28 +3,27 @@
 // mesh on the fitted MPU surface. Its stages, in order:
 //   read -> segment (volumes) -> points -> fit -> sample and triangulate (sampling again
 //   with more particles while the triangulation shows the sample too sparse) -> the
-//   components kept (--largest, --min-volume; from a volume, specks under a tenth of a
-//   voxel dropped) -> optimise the mesh -> surface attributes -> checks -> quality
-//   (optional) -> the volume mesh (optional) -> the report's baselines (optional).
-// Writing the outputs, and turning the result into text, JSON and HTML, are the caller's.
+//   components kept (largest, min_volume; from a volume, specks under a tenth of a voxel
+//   dropped) -> optimise the mesh -> surface attributes -> checks -> quality (optional)
+//   -> the volume mesh (optional) -> the report's baselines (optional).
+// The caller's choices are RunOptions; what the run derives from its input (the fit's
+// tolerance, the voxel size the default count follows, the filter as applied) and what it
+// measures come back in RunResult (pipeline/run_result.h), the typed summary that the
+// command line's JSON and HTML reports and the Python module are written from. Writing
+// the outputs is the caller's.
 #pragma once
 
-#include <array>
 #include <functional>
-#include <map>
+#include <optional>
 #include <string>
-#include <utility>
-#include <vector>
 
 #include "compute/compute_backend.h"
 #include "mesh/component_filter.h"
 #include "mesh/mesh_optimize.h"
 #include "mesh/quality.h"
-#include "mesh/restricted_delaunay.h"
-#include "geometry/triangle_mesh.h"
-#include "mpu/fit_tolerance.h"
 #include "mpu/mpu_fit.h"
 #include "particles/particle_system.h"
+#include "pipeline/run_result.h"
 #include "points/slice_points.h"
 #include "segment/segmentation.h"
 #include "tet/tetrahedralize.h"
@@ -41,13 +40,14 @@ class Observer {
   virtual void note(const std::string& /*line*/) {}
 };
 
+// What the caller chooses; everything else the run derives (RunResult::derived).
 struct RunOptions {
   seg::SegmentOptions segment;  // volumes only
   pts::PointOptions points;     // volumes only
   // Above 0: the volume is a label map and this label is meshed (seg/label_map.h); the
   // segmentation is its indicator's threshold at 0.5, whatever `segment` says.
   int64_t label = 0;
-  mpu::FitOptions fit;          // eps 0: from the scan (mpu/fit_tolerance.h), or from the points
+  mpu::FitOptions fit;  // eps 0: from the scan (mpu/fit_tolerance.h), or from the points
   // particles and spacing 0: the default count, which follows the volume's voxel size.
   particles::SampleOptions sample;
   // Samples again with kRaise times the particles while the triangulation needs repair
@@ -55,17 +55,18 @@ struct RunOptions {
   // count nor a spacing is given, else 0.
   int count_retries = -1;
   OptimizeOptions optimize;  // the mesh optimisation after the triangulation (rounds 0: none)
-  // Fill the final mesh with tetrahedra (tet/tetrahedralize.h) as the last stage.
-  bool volume_mesh = false;
-  TetOptions tet;
-  ComponentFilter components;  // the structures to keep (--largest, --min-volume)
+  ComponentOptions components;  // the structures to keep (largest, min_volume)
   // From a volume, the closed structures enclosing less than this many voxels are dropped
   // too (0: kept): a speck that small is below what the scan resolves (a sliver of one
   // voxel's partial volume), and the particles mesh it with four vertices, whose flat
   // tetrahedron has triangles and a volume mesh of poor shape.
   double speck_voxels = 0.1;
-  bool quality = true;  // measure the mesh's quality (RunResult::quality)
-  QualityOptions quality_options;
+  // Measure the mesh's quality (RunResult::quality) with these options; none: not measured.
+  std::optional<QualityOptions> quality = QualityOptions{};
+  // Measure how the particles' spacing follows |K| (RunResult::spacing).
+  bool spacing_figures = false;
+  // Fill the final mesh with tetrahedra (tet/tetrahedralize.h) as the last stage.
+  std::optional<TetOptions> volume_mesh;
   // Keep the report's baselines: marching cubes of the volume (or the input mesh) and the
   // original MPU mesh (the surface polygonized).
   bool baselines = false;
@@ -74,60 +75,6 @@ struct RunOptions {
 // The factor on the particle count when sampling again (the spacing is divided by its
 // square root; a count is rounded up to a thousand particles).
 inline constexpr double kRaise = 1.5;
-
-// One sampling that the triangulation found too sparse, and what came next.
-struct CountRaise {
-  int64_t requested_particles = 0;
-  double requested_spacing_mm = 0;
-  int64_t asked_particles = 0, particles = 0, repair_points = 0;
-  int64_t next_requested_particles = 0;
-  double next_requested_spacing_mm = 0;
-};
-
-struct InputInfo {
-  std::string path;
-  bool mesh = false;
-  // A volume's geometry and what its reader said.
-  std::array<int64_t, 3> dims{0, 0, 0};
-  Eigen::Vector3d spacing{0, 0, 0};
-  std::string modality;
-  std::vector<std::string> read_notes;
-  // A mesh's size.
-  size_t vertices = 0, triangles = 0;
-};
-
-struct RunResult {
-  InputInfo input;
-  seg::SegmentOptions segment_options;     // volumes: as resolved
-  seg::SegmentationSummary segmentation;   // volumes
-  size_t points = 0;
-  mpu::FitOptions fit_options;             // with the eps the fit used
-  mpu::Tolerance tolerance;                // its source, when it came from the scan
-  bool eps_given = false;
-  mpu::FitStats fit;
-  mpu::MpuSurface surface;
-  particles::SampleOptions sample_options;  // of the last sampling
-  particles::SampleStats sample;
-  particles::ParticleState particles;
-  std::map<std::string, double> particle_kernel_ms;  // the particle kernels' device times
-  std::vector<CountRaise> raises;
-  RestrictedDelaunayStats triangulation;
-  OptimizeStats optimization;
-  bool has_volume = false;
-  TetMesh volume;
-  TetStats volume_stats;
-  TriangleMesh mesh;
-  ComponentFilter components;                // the filter applied (the options', with the specks' bound)
-  int64_t components_kept = 0;               // when `components` is active
-  std::vector<DroppedComponent> components_dropped;
-  bool has_quality = false;
-  Quality quality;
-  bool sparse = false;                      // still too sparse after the last sampling
-  // The reader's notes, then, when sparse, the note that says so (the last).
-  std::vector<std::string> notes;
-  std::vector<std::pair<std::string, TriangleMesh>> baselines;
-  uint64_t memory_estimate = 0;             // bytes, as checked before the long stages
-};
 
 // Opens the compute backend when the pipeline first needs it (after reading, so that a bad
 // input fails first); the backend outlives the call.

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "mesh/quality.h"
 #include "mesh/surface_attributes.h"
 
@@ -78,17 +79,17 @@ Eigen::Vector3d parse_view(const std::string& s) {
   if (s == "front") return {0, -1, 0};
   if (s == "side") return {1, 0, 0};
   if (s == "top") return {0, 0, 1};
-  const std::vector<double> v = split_numbers(s, ',', "--view");
-  if (v.size() != 3) throw InputError("--view: '" + s + "' is neither iso, front, side, top nor x,y,z");
+  const std::vector<double> v = split_numbers(s, ',', option_ref("view"));
+  if (v.size() != 3) throw InputError(option_ref("view") + ": '" + s + "' is neither iso, front, side, top nor x,y,z");
   const Eigen::Vector3d d(v[0], v[1], v[2]);
-  if (!(d.norm() > 0)) throw InputError("--view: the direction " + s + " has zero length");
+  if (!(d.norm() > 0)) throw InputError(option_ref("view") + ": the direction " + s + " has zero length");
   return d.normalized();
 }
 
 std::pair<Eigen::Vector3d, double> parse_zoom(const std::string& s) {
-  const std::vector<double> v = split_numbers(s, ',', "--zoom");
-  if (v.size() != 4) throw InputError("--zoom: '" + s + "' is not x,y,z,r (mm)");
-  if (!(v[3] > 0)) throw InputError("--zoom: the radius must be positive, got " + fmt::format("{}", v[3]));
+  const std::vector<double> v = split_numbers(s, ',', option_ref("zoom"));
+  if (v.size() != 4) throw InputError(option_ref("zoom") + ": '" + s + "' is not x,y,z,r (mm)");
+  if (!(v[3] > 0)) throw InputError(option_ref("zoom") + ": the radius must be positive, got " + fmt::format("{}", v[3]));
   return {Eigen::Vector3d(v[0], v[1], v[2]), v[3]};
 }
 
@@ -96,10 +97,10 @@ std::pair<int, int> parse_size(const std::string& s) {
   std::string t = s;
   const std::string times = "\u00d7";
   if (const size_t at = t.find(times); at != std::string::npos) t = s.substr(0, at) + 'x' + s.substr(at + times.size());
-  const std::vector<double> v = split_numbers(t, 'x', "--size");
+  const std::vector<double> v = split_numbers(t, 'x', option_ref("size"));
   if (v.size() != 2 || v[0] != std::floor(v[0]) || v[1] != std::floor(v[1]) || v[0] < 64 || v[1] < 64 ||
       v[0] > 8192 || v[1] > 8192)
-    throw InputError("--size: '" + s + "' is not WxH with whole numbers from 64 to 8192");
+    throw InputError(option_ref("size") + ": '" + s + "' is not WxH with whole numbers from 64 to 8192");
   return {int(v[0]), int(v[1])};
 }
 
@@ -108,7 +109,7 @@ ColorBy parse_color(const std::string& s) {
   if (s == "curvature") return ColorBy::kCurvature;
   if (s == "min-angle") return ColorBy::kMinAngle;
   if (s == "edge-length") return ColorBy::kEdgeLength;
-  throw InputError("--color: '" + s + "' is none of none, curvature, min-angle, edge-length");
+  throw InputError(option_ref("color") + ": '" + s + "' is none of none, curvature, min-angle, edge-length");
 }
 
 Eigen::Vector3f colormap(int map, float t) {

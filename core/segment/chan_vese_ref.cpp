@@ -8,13 +8,14 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "shared/chan_vese_abi.h"
 
 namespace mpumesh::seg {
 
 void validate(const ChanVeseParams& p) {
-  auto need = [](bool ok, const char* name, const char* what) {
-    if (!ok) throw InputError(std::string("Chan-Vese: --") + name + " must be " + what);
+  auto need = [](bool ok, const char* name, const std::string& what) {
+    if (!ok) throw InputError("Chan-Vese: " + option_ref(name) + " must be " + what);
   };
   need(std::isfinite(p.lambda1) && p.lambda1 > 0, "lambda1", "a positive number");
   need(std::isfinite(p.lambda2) && p.lambda2 > 0, "lambda2", "a positive number");
@@ -23,7 +24,7 @@ void validate(const ChanVeseParams& p) {
   need(std::isfinite(p.dt) && p.dt > 0, "dt", "a positive number");
   need(std::isfinite(p.epsilon) && p.epsilon > 0, "epsilon", "a positive number");
   need(std::isfinite(p.eta) && p.eta > 0, "eta", "a positive number");
-  need(p.iterations >= 1 && p.iterations <= 100000, "iterations", "between 1 and 100000 (--method threshold for none)");
+  need(p.iterations >= 1 && p.iterations <= 100000, "iterations", "between 1 and 100000 (" + option_ref("method") + " threshold for none)");
 }
 
 template <class Real>

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/option_names.h"
 
 namespace mpumesh::seg {
 namespace {
@@ -46,8 +47,8 @@ std::map<int64_t, int64_t> label_voxel_counts(const Volume& labels) {
     require_whole(x, labels.source);
     if (x != 0.0f && ++counts[int64_t(x)] == 1 && counts.size() > kMaxLabels)
       throw InputError(fmt::format("{}: more than {} different labels: this looks like an intensity image, not a "
-                                   "label map (name the labels with --labels L1,L2,... to mesh them anyway)",
-                                   labels.source, kMaxLabels));
+                                   "label map (name the labels with {} L1,L2,... to mesh them anyway)",
+                                   labels.source, kMaxLabels, option_ref("labels")));
   }
   return counts;
 }
@@ -67,11 +68,11 @@ std::vector<int64_t> parse_label_list(const std::string& text) {
       used = 0;
     }
     if (item.empty() || used != item.size() || v <= 0)
-      throw InputError(fmt::format("--labels: '{}' is not a label (a whole number above 0); give 'all' or a list "
+      throw InputError(fmt::format("{}: '{}' is not a label (a whole number above 0); give 'all' or a list "
                                    "such as 3,7,12",
-                                   item));
+                                   option_ref("labels"), item));
     for (const int64_t seen : out)
-      if (seen == v) throw InputError(fmt::format("--labels: label {} is named twice", v));
+      if (seen == v) throw InputError(fmt::format("{}: label {} is named twice", option_ref("labels"), v));
     out.push_back(v);
     if (comma == std::string::npos) return out;
     start = comma + 1;

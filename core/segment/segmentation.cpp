@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "segment/distance_transform.h"
 
 namespace mpumesh::seg {
@@ -13,7 +14,7 @@ namespace mpumesh::seg {
 const char* method_name(Method m) { return m == Method::kThreshold ? "threshold" : "chan-vese"; }
 
 std::vector<float> window_image(const Volume& vol, Window w) {
-  if (!(w.lo < w.hi)) throw InputError("--window: LO must be below HI");
+  if (!(w.lo < w.hi)) throw InputError(option_ref("window") + ": LO must be below HI");
   std::vector<float> u(vol.voxels.size());
   const double scale = 255.0 / (w.hi - w.lo);
   tbb::parallel_for(size_t(0), u.size(), [&](size_t p) {
@@ -125,7 +126,7 @@ Segmentation segment(const Volume& vol, const SegmentOptions& opt, ComputeBacken
   mask = inner_mask(s.field);
   s.components = mask_components(mask, vol.dims);
   if (s.components.count == 0)
-    throw InputError(vol.source + ": Chan-Vese left no voxel inside (try another --window or --lambda2)");
+    throw InputError(vol.source + ": Chan-Vese left no voxel inside (try another " + option_ref("window") + " or " + option_ref("lambda2") + ")");
   return s;
 }
 
@@ -167,9 +168,9 @@ Window parse_window(const std::string& text) {
     if (a != lo.size() || b != hi.size() || !std::isfinite(w.lo) || !std::isfinite(w.hi))
       throw std::invalid_argument("junk");
   } catch (const std::exception&) {
-    throw InputError("--window: '" + text + "' is not LO:HI (numbers)");
+    throw InputError(option_ref("window") + ": '" + text + "' is not LO:HI (numbers)");
   }
-  if (!(w.lo < w.hi)) throw InputError("--window: LO must be below HI in '" + text + "'");
+  if (!(w.lo < w.hi)) throw InputError(option_ref("window") + ": LO must be below HI in '" + text + "'");
   return w;
 }
 

@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "common/error.h"
+#include "common/option_names.h"
 #include "common/kd_tree.h"
 #include "geometry/drop_unused.h"
 #include "geometry/ray_triangle.h"
@@ -339,12 +340,12 @@ TetMesh one_pass(const TriangleMesh& surface, const std::vector<double>& spacing
 
 }  // namespace
 
-void validate(const TetOptions& o, const std::string& command) {
+void validate(const TetOptions& o) {
   auto need = [&](bool ok, const char* name, const char* what) {
-    if (!ok) throw InputError(command + ": --" + name + " must be " + what);
+    if (!ok) throw InputError(option_ref(name) + " must be " + what);
   };
-  need(std::isfinite(o.size) && o.size >= 0, "size", "zero (automatic) or a positive length (mm)");
-  need(std::isfinite(o.grading) && o.grading > 0 && o.grading <= 10, "grading", "in (0, 10] (mm per mm)");
+  need(std::isfinite(o.size) && o.size >= 0, "volume_size", "zero (automatic) or a positive length (mm)");
+  need(std::isfinite(o.grading) && o.grading > 0 && o.grading <= 10, "volume_grading", "in (0, 10] (mm per mm)");
 }
 
 TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStats* stats_out) {

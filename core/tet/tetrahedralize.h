@@ -60,12 +60,15 @@ struct TetStats {
   double surface_volume = 0;       // enclosed by the input surface (mm³)
   double seconds = 0;
   TetQuality quality;
+  // The tetrahedra's volume against the surface's, in percent.
+  double volume_difference_pct() const { return 100 * (quality.volume_mm3 - surface_volume) / surface_volume; }
 };
 
 // Throws InputError when the surface is not a closed, oriented manifold (with its border
 // edges counted), or TetGen refuses it (the message names the problem it found).
 TetMesh tetrahedralize(const TriangleMesh& surface, const TetOptions& opt, TetStats* stats = nullptr);
 
-void validate(const TetOptions& o, const std::string& command);
+// Throws InputError naming the option (`volume_size`, `volume_grading`).
+void validate(const TetOptions& o);
 
 }  // namespace mpumesh

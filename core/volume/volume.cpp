@@ -6,13 +6,14 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/option_names.h"
 
 namespace mpumesh {
 
 Volume resample(const Volume& v, std::array<int64_t, 3> dims) {
   validate_volume(v, v.source);
   for (int a = 0; a < 3; ++a)
-    if (dims[size_t(a)] < 1 || dims[size_t(a)] > 8192) throw InputError("--size: each dimension must be 1 to 8192");
+    if (dims[size_t(a)] < 1 || dims[size_t(a)] > 8192) throw InputError(option_ref("size") + ": each dimension must be 1 to 8192");
   Volume out;
   out.dims = dims;
   out.modality = v.modality;

@@ -32,10 +32,10 @@ TriangleMesh three_structures() {
   return m;
 }
 
-TEST(ComponentFilter, KeepsTheLargestWithTheirCavities) {
+TEST(ComponentOptions, KeepsTheLargestWithTheirCavities) {
   const TriangleMesh m = three_structures();
   const double hollow = 4.0 / 3 * M_PI * (512 - 216), small = 4.0 / 3 * M_PI * 125;
-  ComponentFilter f;
+  ComponentOptions f;
   f.largest = 1;
   FilteredMesh one = filter_components(m, f);
   EXPECT_EQ(one.kept, 1);
@@ -53,7 +53,7 @@ TEST(ComponentFilter, KeepsTheLargestWithTheirCavities) {
   EXPECT_EQ(analyze_topology(two.mesh).components, 3) << "the hollow ball keeps its cavity";
   EXPECT_EQ(two.dropped.size(), 1u);
 
-  ComponentFilter by_volume;
+  ComponentOptions by_volume;
   by_volume.min_volume_mm3 = 0.5 * (small + hollow);
   FilteredMesh v = filter_components(m, by_volume);
   EXPECT_EQ(v.kept, 2);
@@ -61,8 +61,8 @@ TEST(ComponentFilter, KeepsTheLargestWithTheirCavities) {
   EXPECT_NEAR(v.dropped[0].centre.y(), 40, 0.5) << "the small ball is dropped";
 }
 
-TEST(ComponentFilter, DropsEverythingBelowTheVolumeAsked) {
-  ComponentFilter f;
+TEST(ComponentOptions, DropsEverythingBelowTheVolumeAsked) {
+  ComponentOptions f;
   f.min_volume_mm3 = 1e6;
   const FilteredMesh r = filter_components(three_structures(), f);
   EXPECT_EQ(r.kept, 0);

@@ -133,8 +133,10 @@ def test_progress_reaches_the_callback_and_the_gil_is_free():
     (lambda: mpumesh.run(ball(), spacing=(1, -1, 1)), "every value must be above 0"),
     (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), direction=np.eye(2)), "a 3 x 3 matrix"),
     (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), no_such_option=3), "no_such_option"),
-    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), particles=-5), "particles"),
-    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), particle_spacing=-1), "spacing"),
+    # Options named as Python spells them, not as the command line does.
+    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), particles=-5), "particles= must be between 1 and 10^8 (0: from "
+                                                                   "particle_spacing="),
+    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), particle_spacing=-1), "particle_spacing= must be positive"),
     (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), threshold=5000, backend="cpu"), "no voxel lies in the threshold"),
     (lambda: mpumesh.run(np.full((4, 4, 4), np.nan, np.float32), spacing=(1, 1, 1)), "NaN or infinite"),
     (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), labels="all"), "call it once per label"),

@@ -7,6 +7,8 @@
 #include "cpu/cpu_backend.h"
 #include "io/mesh_io.h"
 #include "io/read_file.h"
+#include "common/option_names.h"
+#include "option_spelling.h"
 #include "pipeline/run_pipeline.h"
 
 namespace mpumesh {
@@ -63,13 +65,25 @@ TEST(Pipeline, RunsItsStagesInOrderAndOpensTheBackendOnce) {
   ASSERT_EQ(r.baselines.size(), 2u);
   EXPECT_EQ(r.baselines[0].first, "marching cubes");
   EXPECT_EQ(r.baselines[1].first, "original MPU");
-  EXPECT_TRUE(r.has_quality);
-  EXPECT_TRUE(r.quality.topo.closed);
+  ASSERT_TRUE(r.quality);
+  EXPECT_TRUE(r.quality->topo.closed);
   EXPECT_FALSE(r.input.mesh);
-  EXPECT_EQ(r.input.dims, (std::array<int64_t, 3>{30, 28, 12}));
+  ASSERT_TRUE(r.input.volume);
+  EXPECT_EQ(r.input.volume->dims, (std::array<int64_t, 3>{30, 28, 12}));
   EXPECT_GT(r.points, 100u);
-  EXPECT_EQ(r.fit_options.eps, r.tolerance.eps) << "no eps given: the tolerance follows the scan";
+  // What the run derived, apart from what it was asked: the tolerance from the scan, the
+  // voxel size the default count follows.
+  EXPECT_EQ(r.derived.fit.eps, r.derived.tolerance.eps) << "no eps given: the tolerance follows the scan";
+  EXPECT_EQ(o.fit.eps, 0) << "the options stay as given";
+  EXPECT_FALSE(r.derived.eps_given);
+  EXPECT_GT(r.derived.sample_source.voxel_size, 0);
   EXPECT_EQ(r.mesh.curvature.size(), r.mesh.vertices.size());
+  // Each stage's time, in the order run.
+  ASSERT_EQ(r.stage_seconds.size(), rec.stages.size());
+  for (size_t k = 0; k < rec.stages.size(); ++k) {
+    EXPECT_EQ(r.stage_seconds[k].first, rec.stages[k]);
+    EXPECT_GE(r.stage_seconds[k].second, 0);
+  }
 }
 
 TEST(Pipeline, RemeshesAClosedMeshAndRefusesAnOpenOne) {
@@ -78,11 +92,12 @@ TEST(Pipeline, RemeshesAClosedMeshAndRefusesAnOpenOne) {
   CpuBackend cpu;
   pipeline::RunOptions o;
   o.sample.spacing = 1.5;
-  o.quality = false;
+  o.quality.reset();
   const pipeline::RunResult r = pipeline::run_pipeline(dir + "/ball.stl", o, [&]() -> ComputeBackend& { return cpu; });
-  EXPECT_TRUE(r.input.mesh);
-  EXPECT_EQ(r.input.triangles, 20u * 256u);
-  EXPECT_FALSE(r.has_quality);
+  ASSERT_TRUE(r.input.mesh);
+  EXPECT_FALSE(r.input.volume);
+  EXPECT_EQ(r.input.mesh->triangles, 20u * 256u);
+  EXPECT_FALSE(r.quality);
   EXPECT_GT(r.mesh.triangles.size(), 500u);
 
   TriangleMesh open = test::icosphere(10.0, 2);
@@ -135,7 +150,11 @@ TEST(Pipeline, SaysSoWhenOnlySpecksAreFound) {
   } catch (const InputError& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find(ball + ": every structure is a speck"), std::string::npos) << what;
-    EXPECT_NE(what.find("--keep-specks"), std::string::npos) << what;
+    // Core names the option by its stable name; each edge spells it its own way.
+    EXPECT_NE(what.find("`keep_specks`"), std::string::npos) << what;
+    EXPECT_NE(tools::cli_text(what, "run").find("(--keep-specks keeps them)"), std::string::npos) << what;
+    EXPECT_NE(spell_options(what, tools::python_spelling()).find("(keep_specks= keeps them)"), std::string::npos)
+        << what;
   }
   o.speck_voxels = 0;  // kept
   EXPECT_GT(pipeline::run_pipeline(ball, o, [&]() -> ComputeBackend& { return cpu; }).mesh.triangles.size(), 1000u);

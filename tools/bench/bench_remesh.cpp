@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
               choice.note.empty() ? "" : (" (" + choice.note + ")").c_str());
   pipeline::RunOptions ro;
   ro.sample.particles = particles;
-  ro.quality = false;  // --quiet and no report
+  ro.quality.reset();  // --quiet and no report
   const auto t0 = Clock::now();
   const pipeline::RunResult run = pipeline::run_pipeline(
       input, ro, [&]() -> ComputeBackend& { return *choice.backend; }, nullptr);

@@ -110,7 +110,7 @@ int main(int argc, char** argv) {
   ro.segment.threshold = mc::ThresholdRange{iso};
   ro.sample.particles = particles;  // 0: the product's default
   ro.fit.eps = eps;
-  ro.quality = false;               // --quiet and no report
+  ro.quality.reset();               // --quiet and no report
   StageTimes times;
   auto run_ours = [&](StageTimes& st, double& seconds) {
     const auto t_all = Clock::now();
@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
               "particles %.2f s (%lld, %d iterations, %s), triangulate %.2f s (%lld repair points, %zu count raises): "
               "%.2f s\n",
               times.at("read volume"), t_seg, t_points, run.points, t_fit, surf.leaves.size(), run.fit.eps,
-              run.eps_given ? ", given" : "", times.at("particles"),
+              run.derived.eps_given ? ", given" : "", times.at("particles"),
               (long long)run.sample.particles, run.sample.iterations, run.sample.converged ? "settled" : "at the cap",
               times.at("triangulate"), (long long)run.triangulation.repair_points, run.raises.size(), t_ours_first);
 

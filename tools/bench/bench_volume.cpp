@@ -53,8 +53,8 @@ int main(int argc, char** argv) {
   ro.segment.method = seg::Method::kThreshold;
   ro.segment.threshold = mc::ThresholdRange{iso};
   ro.sample.particles = argc > 3 ? std::stoll(argv[3]) : 0;
-  ro.quality = false;
-  ro.volume_mesh = true;
+  ro.quality.reset();
+  ro.volume_mesh = TetOptions{};
   StageTimes times;
   const auto t0 = std::chrono::steady_clock::now();
   const pipeline::RunResult r = pipeline::run_pipeline(path, ro, [&]() -> ComputeBackend& { return cpu; }, &times);
@@ -63,21 +63,21 @@ int main(int argc, char** argv) {
   fmt::print("volume {}: threshold {}; ours on {}\n", path, iso, cpu.device());
   fmt::print("ours: surface run {:.2f} s ({} triangles), volume mesh {:.2f} s ({:.2f} times the surface run); size "
              "{:.2f} mm\n",
-             t_surface, r.mesh.triangles.size(), t_volume, t_volume / t_surface, r.volume_stats.size);
+             t_surface, r.mesh.triangles.size(), t_volume, t_volume / t_surface, r.volume->stats.size);
   // CGAL at about our surface's triangle count: on the sample CT facet size 3.4 mm (distance
   // 0.72) gives about 96,500 triangles, and the count goes as 1 / size².
   bench::Mesh3Params m3;
   m3.iso = iso;
   m3.facet_size = 3.4 * std::sqrt(96500.0 / double(r.mesh.triangles.size()));
   m3.facet_distance = 0.72 * m3.facet_size / 3.4;
-  m3.cell_size = r.volume_stats.size;
+  m3.cell_size = r.volume->stats.size;
   const bench::Mesh3Result cg = bench::cgal_mesh3(vol, m3);
   fmt::print("CGAL Mesh_3: facet size {:.2f} mm, distance {:.2f} mm, cell size {:.2f} mm, radius-edge 3, perturb and "
              "exude\n",
              m3.facet_size, m3.facet_distance, m3.cell_size);
   fmt::print("\n{:<14} {:>9} {:>9} {:>8} {:>8} {:>7} {:>7} {:>6} {:>8}\n", "mesh", "surface", "tets", "nodes",
              "min dih", "%<10", "%<15", "RR", "time s");
-  row("ours", int64_t(r.mesh.triangles.size()), r.volume_stats.quality, t_all);
+  row("ours", int64_t(r.mesh.triangles.size()), r.volume->stats.quality, t_all);
   row("CGAL Mesh_3", int64_t(cg.mesh.triangles.size()), measure_tet_quality(cg.volume), cg.seconds);
   fmt::print("(surface: triangles of the boundary; min dih: smallest dihedral angle, degrees; %<10, %<15: % of "
              "tetrahedra with a dihedral angle under 10, 15 degrees; RR: mean radius ratio 3 r_in / r_circ; time: ours "

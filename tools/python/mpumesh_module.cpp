@@ -22,7 +22,10 @@
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/volume_io.h"
+#include "common/option_names.h"
+#include "option_spelling.h"
 #include "progress.h"
+#include "run_json.h"
 #include "run_cli.h"
 
 namespace py = pybind11;
@@ -85,20 +88,16 @@ void parse_options(RunCli& o, const py::dict& options) {
   }
 }
 
-// Forwards the stages to a Progress (for the report's stage times) and to the callback.
+// Forwards the stages and the notes (spelled as keywords) to the callback.
 class PyObserver : public pipeline::Observer {
  public:
-  PyObserver(tools::Progress& progress, py::object callback) : progress_(progress), callback_(std::move(callback)) {}
+  explicit PyObserver(py::object callback) : callback_(std::move(callback)) {}
   void begin(const std::string& stage) override {
-    progress_.begin(stage);
     stage_ = stage;
     call("begin", stage);
   }
-  void end() override {
-    progress_.end();
-    call("end", stage_);
-  }
-  void note(const std::string& line) override { call("note", line); }
+  void end() override { call("end", stage_); }
+  void note(const std::string& line) override { call("note", spell_options(line, tools::python_spelling())); }
 
  private:
   void call(const char* event, const std::string& text) {
@@ -106,7 +105,6 @@ class PyObserver : public pipeline::Observer {
     py::gil_scoped_acquire gil;
     callback_(event, text);
   }
-  tools::Progress& progress_;
   py::object callback_;
   std::string stage_;
 };
@@ -198,10 +196,12 @@ py::dict run_on(const Input& input, const py::dict& kwargs, py::object progress,
   parse_options(o, kwargs);
   tools::CommonOptions common;
   common.quiet = true;
-  pipeline::RunOptions options = tools::run_options(o, common);
-  options.quality = true;
-  tools::Progress stages(true);
-  PyObserver observer(stages, std::move(progress));
+  pipeline::RunOptions options = tools::run_options(o, common, "");
+  options.quality = QualityOptions{};
+  options.quality->self_intersections = o.self_intersections;
+  options.spacing_figures = true;
+  tools::Progress stages(true);  // the command's own stages (the backend)
+  PyObserver observer(std::move(progress));
   vk::BackendChoice choice;
   pipeline::RunResult r;
   {
@@ -215,10 +215,10 @@ py::dict run_on(const Input& input, const py::dict& kwargs, py::object progress,
     if constexpr (std::is_same_v<Input, Volume>) r = pipeline::run_pipeline(input, options, open, &observer);
     else r = pipeline::run_pipeline(input, "mesh arrays", options, open, &observer);
   }
-  nlohmann::json j = tools::run_json(o, "", r, choice);
+  nlohmann::json j = tools::run_json(r, {"", "", &choice, tools::python_spelling()});
   j.erase("output");
   if (options.label > 0) j["label"] = options.label;
-  j["stage_seconds"] = tools::stage_json(stages);
+  j["stage_seconds"] = tools::stage_seconds_json(r.stage_seconds, stages);
   j["memory"] = tools::memory_json(r);
   py::dict d = mesh_dict(r.mesh);
   d["report"] = json_to_python(j);
@@ -315,9 +315,9 @@ PYBIND11_MODULE(mpumesh, m) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const mpumesh::InputError& e) {
-      PyErr_SetString(PyExc_ValueError, e.what());
+      PyErr_SetString(PyExc_ValueError, mpumesh::spell_options(e.what(), mpumesh::tools::python_spelling()).c_str());
     } catch (const mpumesh::NumericalError& e) {
-      PyErr_SetString(PyExc_RuntimeError, e.what());
+      PyErr_SetString(PyExc_RuntimeError, mpumesh::spell_options(e.what(), mpumesh::tools::python_spelling()).c_str());
     } catch (const mpumesh::InternalError& e) {
       PyErr_SetString(PyExc_RuntimeError, e.what());
     }
