@@ -80,33 +80,38 @@ class PlyBinaryCursor {
   const std::string& name_;
 };
 
-}  // namespace
+// The header of a PLY file: its format, its elements with their properties, and where
+// the data start.
+struct PlyHeader {
+  std::string format;
+  std::vector<PlyElement> elems;
+  size_t data = 0;
+};
 
-namespace detail {
-TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vector<Eigen::Vector3d>* normals) {
+PlyHeader parse_ply_header(const std::string& b, const std::string& name) {
   if (b.compare(0, 4, "ply\n") != 0 && b.compare(0, 5, "ply\r\n") != 0)
     throw InputError(name + ": not a PLY file (no 'ply' magic)");
   size_t end = b.find("end_header");
   if (end == std::string::npos) throw InputError(name + ": PLY header has no end_header");
-  size_t data = b.find('\n', end);
-  if (data == std::string::npos) throw InputError(name + ": truncated PLY header");
-  ++data;
+  PlyHeader h;
+  h.data = b.find('\n', end);
+  if (h.data == std::string::npos) throw InputError(name + ": truncated PLY header");
+  ++h.data;
   std::istringstream hs(b.substr(0, end));
-  std::string line, format;
-  std::vector<PlyElement> elems;
+  std::string line;
   while (std::getline(hs, line)) {
     std::istringstream ls(line);
     std::string kw;
     ls >> kw;
     if (kw == "format") {
-      ls >> format;
+      ls >> h.format;
     } else if (kw == "element") {
       PlyElement e;
       ls >> e.name >> e.count;
       if (!ls || e.count < 0) throw InputError(name + ": bad PLY element line '" + line + "'");
-      elems.push_back(e);
+      h.elems.push_back(e);
     } else if (kw == "property") {
-      if (elems.empty()) throw InputError(name + ": PLY property before any element");
+      if (h.elems.empty()) throw InputError(name + ": PLY property before any element");
       PlyProp p;
       ls >> p.type;
       if (p.type == "list") ls >> p.list_count_type >> p.type;
@@ -114,81 +119,115 @@ TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vecto
       if (!ls) throw InputError(name + ": bad PLY property line '" + line + "'");
       ply_type_size(p.type, name);
       if (!p.list_count_type.empty()) ply_type_size(p.list_count_type, name);
-      elems.back().props.push_back(p);
+      h.elems.back().props.push_back(p);
     }
   }
-  if (format != "ascii" && format != "binary_little_endian" && format != "binary_big_endian")
-    throw InputError(name + ": unsupported PLY format '" + format + "'");
+  if (h.format != "ascii" && h.format != "binary_little_endian" && h.format != "binary_big_endian")
+    throw InputError(name + ": unsupported PLY format '" + h.format + "'");
   // Sizes are bounded by the file before anything is allocated.
-  for (const auto& e : elems)
+  for (const auto& e : h.elems)
     if (e.count > int64_t(b.size())) throw InputError(name + ": PLY element count exceeds the file size");
-  TriangleMesh m;
-  const bool ascii = format == "ascii";
-  std::istringstream as(ascii ? b.substr(data) : std::string());
-  PlyBinaryCursor cur(b, data, format == "binary_big_endian", name);
-  auto read_value = [&](const std::string& t) {
-    if (!ascii) return cur.read(t);
+  return h;
+}
+
+// The data's values one by one, as text or binary.
+class PlyValues {
+ public:
+  PlyValues(const std::string& b, const PlyHeader& h, const std::string& name)
+      : ascii_(h.format == "ascii"),
+        text_(ascii_ ? b.substr(h.data) : std::string()),
+        cursor_(b, h.data, h.format == "binary_big_endian", name),
+        name_(name) {}
+  double next(const std::string& type) {
+    if (!ascii_) return cursor_.read(type);
     double v;
-    if (!(as >> v)) throw InputError(name + ": truncated or malformed PLY data");
+    if (!(text_ >> v)) throw InputError(name_ + ": truncated or malformed PLY data");
     return v;
-  };
-  for (const auto& e : elems) {
-    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
-    int xi = -1, yi = -1, zi = -1, nxi = -1, nyi = -1, nzi = -1;
-    int ki[4] = {-1, -1, -1, -1};  // k1 k2 K H
+  }
+
+ private:
+  bool ascii_;
+  std::istringstream text_;
+  PlyBinaryCursor cursor_;
+  const std::string& name_;
+};
+
+// Where an element's properties of interest sit (-1: absent).
+struct PlyColumns {
+  int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1;
+  int k[4] = {-1, -1, -1, -1};  // k1 k2 K H
+  explicit PlyColumns(const PlyElement& e) {
     static const char* const kCurvatureNames[4] = {"k1", "k2", "K", "H"};
     for (size_t i = 0; i < e.props.size(); ++i) {
+      const std::string& n = e.props[i].name;
       for (int c = 0; c < 4; ++c)
-        if (e.props[i].name == kCurvatureNames[c] && e.props[i].list_count_type.empty()) ki[c] = int(i);
-      if (e.props[i].name == "x") xi = int(i);
-      if (e.props[i].name == "y") yi = int(i);
-      if (e.props[i].name == "z") zi = int(i);
-      if (e.props[i].name == "nx") nxi = int(i);
-      if (e.props[i].name == "ny") nyi = int(i);
-      if (e.props[i].name == "nz") nzi = int(i);
-    }
-    if (is_vertex && (xi < 0 || yi < 0 || zi < 0)) throw InputError(name + ": PLY vertices lack x, y or z");
-    if (is_vertex && normals && (nxi < 0 || nyi < 0 || nzi < 0))
-      throw InputError(name + ": PLY vertices lack the normal nx, ny, nz");
-    const bool has_normals = nxi >= 0 && nyi >= 0 && nzi >= 0;
-    const bool has_curvature = ki[0] >= 0 && ki[1] >= 0 && ki[2] >= 0 && ki[3] >= 0;
-    if (is_vertex) m.vertices.reserve(size_t(e.count));
-    std::vector<int64_t> idx;
-    for (int64_t r = 0; r < e.count; ++r) {
-      Eigen::Vector3d v = Eigen::Vector3d::Zero(), nv = Eigen::Vector3d::Zero();
-      std::array<float, 4> kv{};
-      for (size_t i = 0; i < e.props.size(); ++i) {
-        const PlyProp& p = e.props[i];
-        if (!p.list_count_type.empty()) {
-          double cnt = read_value(p.list_count_type);
-          if (!(cnt >= 0 && cnt <= 1e6)) throw InputError(name + ": bad PLY list length");
-          idx.clear();
-          for (int64_t c = 0; c < int64_t(cnt); ++c) {
-            double x = read_value(p.type);
-            if (!(std::abs(x) < 9.2e18)) throw InputError(name + ": bad PLY face index");
-            idx.push_back(int64_t(x));
-          }
-          if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) add_polygon(m, idx, name);
-        } else {
-          double x = read_value(p.type);
-          if (int(i) == xi) v.x() = x;
-          if (int(i) == yi) v.y() = x;
-          if (int(i) == zi) v.z() = x;
-          if (int(i) == nxi) nv.x() = x;
-          if (int(i) == nyi) nv.y() = x;
-          if (int(i) == nzi) nv.z() = x;
-          for (int c = 0; c < 4; ++c)
-            if (int(i) == ki[c]) kv[size_t(c)] = float(x);
-        }
-      }
-      if (is_vertex) {
-        m.vertices.push_back(v);
-        if (normals) normals->push_back(nv);
-        if (has_normals) m.normals.push_back(nv.cast<float>());
-        if (has_curvature) m.curvature.push_back(kv);
-      }
+        if (n == kCurvatureNames[c] && e.props[i].list_count_type.empty()) k[c] = int(i);
+      if (n == "x") x = int(i);
+      if (n == "y") y = int(i);
+      if (n == "z") z = int(i);
+      if (n == "nx") nx = int(i);
+      if (n == "ny") ny = int(i);
+      if (n == "nz") nz = int(i);
     }
   }
+  bool normals() const { return nx >= 0 && ny >= 0 && nz >= 0; }
+  bool curvature() const { return k[0] >= 0 && k[1] >= 0 && k[2] >= 0 && k[3] >= 0; }
+};
+
+// One element's rows into the mesh: vertices (with their normals and curvature) or faces;
+// any other element's values are read past.
+void read_ply_element(const PlyElement& e, PlyValues& values, TriangleMesh& m, std::vector<Eigen::Vector3d>* normals,
+                      const std::string& name) {
+  const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+  const PlyColumns col(e);
+  if (is_vertex && (col.x < 0 || col.y < 0 || col.z < 0)) throw InputError(name + ": PLY vertices lack x, y or z");
+  if (is_vertex && normals && !col.normals()) throw InputError(name + ": PLY vertices lack the normal nx, ny, nz");
+  if (is_vertex) m.vertices.reserve(size_t(e.count));
+  std::vector<int64_t> idx;
+  for (int64_t r = 0; r < e.count; ++r) {
+    Eigen::Vector3d v = Eigen::Vector3d::Zero(), nv = Eigen::Vector3d::Zero();
+    std::array<float, 4> kv{};
+    for (size_t i = 0; i < e.props.size(); ++i) {
+      const PlyProp& p = e.props[i];
+      if (!p.list_count_type.empty()) {
+        double cnt = values.next(p.list_count_type);
+        if (!(cnt >= 0 && cnt <= 1e6)) throw InputError(name + ": bad PLY list length");
+        idx.clear();
+        for (int64_t c = 0; c < int64_t(cnt); ++c) {
+          double x = values.next(p.type);
+          if (!(std::abs(x) < 9.2e18)) throw InputError(name + ": bad PLY face index");
+          idx.push_back(int64_t(x));
+        }
+        if (is_face && (p.name == "vertex_indices" || p.name == "vertex_index")) add_polygon(m, idx, name);
+        continue;
+      }
+      const double x = values.next(p.type);
+      const int at = int(i);
+      if (at == col.x) v.x() = x;
+      if (at == col.y) v.y() = x;
+      if (at == col.z) v.z() = x;
+      if (at == col.nx) nv.x() = x;
+      if (at == col.ny) nv.y() = x;
+      if (at == col.nz) nv.z() = x;
+      for (int c = 0; c < 4; ++c)
+        if (at == col.k[c]) kv[size_t(c)] = float(x);
+    }
+    if (!is_vertex) continue;
+    m.vertices.push_back(v);
+    if (normals) normals->push_back(nv);
+    if (col.normals()) m.normals.push_back(nv.cast<float>());
+    if (col.curvature()) m.curvature.push_back(kv);
+  }
+}
+
+}  // namespace
+
+namespace detail {
+TriangleMesh parse_ply(const std::string& b, const std::string& name, std::vector<Eigen::Vector3d>* normals) {
+  const PlyHeader h = parse_ply_header(b, name);
+  PlyValues values(b, h, name);
+  TriangleMesh m;
+  for (const auto& e : h.elems) read_ply_element(e, values, m, normals, name);
   return m;
 }
 }  // namespace detail

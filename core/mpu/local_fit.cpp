@@ -168,68 +168,147 @@ Eigen::Matrix3d frame_from_normal(const Eigen::Vector3d& n) {
   return m;
 }
 
+namespace {
+
+constexpr int kMaxTerms = bivariate_terms(4);
+
+// The least-squares rows of a height-field fit: h at each point, and with slope_length > 0
+// also its slopes ∂h/∂u, ∂h/∂v against the point's normal (n_u, n_v, n_w in the frame:
+// -n_u / n_w, -n_v / n_w), weighted by (slope_length / R)² (a slope off by s is a height
+// off by s over slope_length), for normals within 60° of the frame's w. Row k of `mono`
+// is monomial k at the rows (kMaxTerms rows of n); one flat buffer per thread.
+struct HeightRows {
+  size_t points = 0, n = 0;
+  double* mono = nullptr;
+  const double* wt = nullptr;      // the rows' weights
+  const double* target = nullptr;  // the rows' values
+};
+
+HeightRows height_rows(const Ball& ball, const PointCloud& cloud, const Eigen::Matrix3d& frame, const Local& l,
+                       double slope_length) {
+  thread_local std::vector<double> mono_buf, wt_buf, target_buf;
+  HeightRows r;
+  r.points = l.u.size();
+  const bool slopes = slope_length > 0;
+  r.n = slopes ? 3 * r.points : r.points;
+  const size_t points = r.points, n = r.n;
+  mono_buf.resize(size_t(kMaxTerms) * n);
+  r.mono = mono_buf.data();
+  r.wt = l.weight.data();
+  r.target = l.w.data();
+  for (size_t i = 0; i < points; ++i) {
+    double m[15];
+    bivariate_monomials(l.u[i], l.v[i], m);
+    for (int k = 0; k < kMaxTerms; ++k) r.mono[size_t(k) * n + i] = m[k];
+  }
+  if (!slopes) return r;
+  wt_buf.resize(n);
+  target_buf.resize(n);
+  const double beta = (slope_length / ball.radius) * (slope_length / ball.radius);
+  for (size_t i = 0; i < points; ++i) {
+    const Eigen::Vector3d nl = frame * cloud.normals[ball.ids[i]];
+    const bool steep = !(nl.z() > 0.5);
+    wt_buf[i] = l.weight[i];
+    wt_buf[points + i] = wt_buf[2 * points + i] = steep ? 0.0 : beta * l.weight[i];
+    target_buf[i] = l.w[i];
+    target_buf[points + i] = steep ? 0.0 : -nl.x() / nl.z();
+    target_buf[2 * points + i] = steep ? 0.0 : -nl.y() / nl.z();
+    const double u = l.u[i], v = l.v[i], u2 = u * u, v2 = v * v, uv = u * v;
+    // ∂/∂u and ∂/∂v of the monomials of bivariate_monomials
+    const double du[15] = {0, 1, 0, 2 * u, v, 0, 3 * u2, 2 * uv, v2, 0, 4 * u2 * u, 3 * u2 * v, 2 * u * v2, v2 * v, 0};
+    const double dv[15] = {0, 0, 1, 0, u, 2 * v, 0, u2, 2 * uv, 3 * v2, 0, u2 * u, 2 * u2 * v, 3 * u * v2, 4 * v2 * v};
+    for (int k = 0; k < kMaxTerms; ++k) {
+      r.mono[size_t(k) * n + points + i] = du[k];
+      r.mono[size_t(k) * n + 2 * points + i] = dv[k];
+    }
+  }
+  r.wt = wt_buf.data();
+  r.target = target_buf.data();
+  return r;
+}
+
+// Polynomials orthogonal over the rows, built term by term: beta_j = Σ_k T[j][k] m_k; a
+// monomial the points cannot tell from the earlier ones (e.g. v² when the points lie on a
+// line) is dropped. Rows of `basis` are the polynomials at the rows (those of the
+// accepted degrees, then the current degree's new ones).
+class OrthoBasis {
+ public:
+  explicit OrthoBasis(const HeightRows& rows) : r_(rows) {
+    thread_local std::vector<double> basis_buf, b_buf, wb_buf;
+    basis_buf.resize(size_t(kMaxTerms) * r_.n);
+    b_buf.resize(r_.n);
+    wb_buf.resize(r_.n);
+    basis_ = basis_buf.data(), b_ = b_buf.data(), wb_ = wb_buf.data();
+  }
+  // Adds monomials [from, to) after the accepted basis functions; returns the smallest
+  // ratio of a monomial's residual to itself (squared norms).
+  double add_terms(int from, int to);
+  // Takes the terms added since the last call: adds the target's projections on them
+  // to h (monomial coefficients).
+  void accept(Coeffs& h);
+
+ private:
+  double dot(const double* x, const double* y) const { return weighted_dot(r_.wt, x, y, r_.n); }
+  const HeightRows& r_;
+  double *basis_, *b_, *wb_;
+  std::array<std::array<double, 15>, kMaxTerms> T_;
+  std::array<double, kMaxTerms> norm2_;  // <beta, beta>
+  int accepted_ = 0;                     // basis functions of the accepted degrees
+  int count_ = 0;                        // and this degree's
+};
+
+double OrthoBasis::add_terms(int from, int to) {
+  const size_t n = r_.n;
+  count_ = accepted_;
+  double worst_ratio = 1;
+  for (int m = from; m < to; ++m) {
+    std::copy(r_.mono + size_t(m) * n, r_.mono + size_t(m + 1) * n, b_);
+    std::array<double, 15> t{};
+    t[size_t(m)] = 1;
+    const double start = dot(b_, b_);
+    // Classical Gram-Schmidt, twice ("twice is enough": as orthogonal as the modified
+    // one): each pass projects b on every earlier basis function at once, so that the
+    // pass's dot products are independent and overlap, where the modified scheme's each
+    // waits for the one before.
+    for (int pass = 0; pass < 2; ++pass) {
+      double p[kMaxTerms];
+      for (size_t i = 0; i < n; ++i) wb_[i] = r_.wt[i] * b_[i];
+      projections(wb_, basis_, count_, n, p);
+      for (int j = 0; j < count_; ++j) {
+        p[j] /= norm2_[size_t(j)];
+        const double* bj = basis_ + size_t(j) * n;
+        for (size_t i = 0; i < n; ++i) b_[i] -= p[j] * bj[i];
+        for (int c = 0; c < 15; ++c) t[size_t(c)] -= p[j] * T_[size_t(j)][size_t(c)];
+      }
+    }
+    const double nb = dot(b_, b_);
+    worst_ratio = std::min(worst_ratio, start > 0 ? nb / start : 0.0);
+    if (!(nb > 1e-12 * start) || !(nb > 1e-300)) continue;
+    std::copy(b_, b_ + n, basis_ + size_t(count_) * n);
+    T_[size_t(count_)] = t;
+    norm2_[size_t(count_)] = nb;
+    ++count_;
+  }
+  return worst_ratio;
+}
+
+void OrthoBasis::accept(Coeffs& h) {
+  for (int j = accepted_; j < count_; ++j) {
+    const double coef = dot(r_.target, basis_ + size_t(j) * r_.n) / norm2_[size_t(j)];
+    for (int c = 0; c < 15; ++c) h[size_t(c)] += coef * T_[size_t(j)][size_t(c)];
+  }
+  accepted_ = count_;
+}
+
+}  // namespace
+
 Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen::Vector3d& normal, int degree_cap,
                           double slope_length, double* error) {
   const Eigen::Matrix3d frame = frame_from_normal(normal);
   const Local& l = to_local(ball, cloud, frame);
-  const size_t points = l.u.size();
-  // The least-squares rows: h at each point, and with slope_length > 0 also its slopes
-  // ∂h/∂u, ∂h/∂v against the point's normal (n_u, n_v, n_w in the frame: -n_u / n_w,
-  // -n_v / n_w), weighted by (slope_length / R)² (a slope off by s is a height off by s
-  // over slope_length), for normals within 60° of the frame's w.
-  const bool slopes = slope_length > 0;
-  const size_t n = slopes ? 3 * points : points;
-  constexpr int kMaxTerms = bivariate_terms(4);
-  // Row k of `mono` is monomial k at the rows; rows of `basis` are the orthogonal
-  // polynomials at the rows (those of the accepted degrees, then this degree's new
-  // ones); one flat buffer per thread.
-  thread_local std::vector<double> mono_buf, basis_buf, b_buf, wb_buf, wt_buf, target_buf;
-  mono_buf.resize(size_t(kMaxTerms) * n);
-  basis_buf.resize(size_t(kMaxTerms) * n);
-  b_buf.resize(n);
-  wb_buf.resize(n);
-  double* const mono = mono_buf.data();
-  double* const basis = basis_buf.data();
-  double* const b = b_buf.data();
-  double* const wb = wb_buf.data();
-  const double* wt = l.weight.data();
-  const double* target = l.w.data();
-  for (size_t i = 0; i < points; ++i) {
-    double m[15];
-    bivariate_monomials(l.u[i], l.v[i], m);
-    for (int k = 0; k < kMaxTerms; ++k) mono[size_t(k) * n + i] = m[k];
-  }
-  if (slopes) {
-    wt_buf.resize(n);
-    target_buf.resize(n);
-    const double beta = (slope_length / ball.radius) * (slope_length / ball.radius);
-    for (size_t i = 0; i < points; ++i) {
-      const Eigen::Vector3d nl = frame * cloud.normals[ball.ids[i]];
-      const bool steep = !(nl.z() > 0.5);
-      wt_buf[i] = l.weight[i];
-      wt_buf[points + i] = wt_buf[2 * points + i] = steep ? 0.0 : beta * l.weight[i];
-      target_buf[i] = l.w[i];
-      target_buf[points + i] = steep ? 0.0 : -nl.x() / nl.z();
-      target_buf[2 * points + i] = steep ? 0.0 : -nl.y() / nl.z();
-      const double u = l.u[i], v = l.v[i], u2 = u * u, v2 = v * v, uv = u * v;
-      // ∂/∂u and ∂/∂v of the monomials of bivariate_monomials
-      const double du[15] = {0, 1, 0, 2 * u, v, 0, 3 * u2, 2 * uv, v2, 0, 4 * u2 * u, 3 * u2 * v, 2 * u * v2, v2 * v, 0};
-      const double dv[15] = {0, 0, 1, 0, u, 2 * v, 0, u2, 2 * uv, 3 * v2, 0, u2 * u, 2 * u2 * v, 3 * u * v2, 4 * v2 * v};
-      for (int k = 0; k < kMaxTerms; ++k) {
-        mono[size_t(k) * n + points + i] = du[k];
-        mono[size_t(k) * n + 2 * points + i] = dv[k];
-      }
-    }
-    wt = wt_buf.data();
-    target = target_buf.data();
-  }
-  auto dot = [&](const double* x, const double* y) { return weighted_dot(wt, x, y, n); };
-  // Orthogonal basis built incrementally (classical Gram-Schmidt, twice, below):
-  // beta_j = Σ_k T[j][k] m_k; a monomial the points cannot tell from the earlier ones
-  // (e.g. v² when the points lie on a line) is dropped.
-  std::array<std::array<double, 15>, kMaxTerms> T;
-  std::array<double, kMaxTerms> norm2;  // <beta, beta>
-  int accepted = 0;                     // basis functions of the accepted degrees
+  const HeightRows rows = height_rows(ball, cloud, frame, l, slope_length);
+  const size_t points = rows.points;
+  OrthoBasis basis(rows);
   Leaf best = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
   double best_error = std::numeric_limits<double>::infinity();
   Coeffs h{};  // the monomial coefficients of h
@@ -239,37 +318,7 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
     // Degree 2 needs its 6 terms' worth of points; a higher degree twice its terms.
     if (degree == 2 && points < 6) break;
     if (degree > 2 && double(points) < 2.0 * terms) break;
-    // This degree's new basis functions follow the accepted ones, until the degree is.
-    int count = accepted;
-    double worst_ratio = 1;
-    for (int m = k; m < terms; ++m) {
-      std::copy(mono + size_t(m) * n, mono + size_t(m + 1) * n, b);
-      std::array<double, 15> t{};
-      t[size_t(m)] = 1;
-      const double start = dot(b, b);
-      // Classical Gram-Schmidt, twice ("twice is enough": as orthogonal as the modified
-      // one): each pass projects b on every earlier basis function at once, so that the
-      // pass's dot products are independent and overlap, where the modified scheme's each
-      // waited for the one before.
-      for (int pass = 0; pass < 2; ++pass) {
-        double p[kMaxTerms];
-        for (size_t i = 0; i < n; ++i) wb[i] = wt[i] * b[i];
-        projections(wb, basis, count, n, p);
-        for (int j = 0; j < count; ++j) {
-          p[j] /= norm2[size_t(j)];
-          const double* bj = basis + size_t(j) * n;
-          for (size_t i = 0; i < n; ++i) b[i] -= p[j] * bj[i];
-          for (int c = 0; c < 15; ++c) t[size_t(c)] -= p[j] * T[size_t(j)][size_t(c)];
-        }
-      }
-      const double nb = dot(b, b);
-      worst_ratio = std::min(worst_ratio, start > 0 ? nb / start : 0.0);
-      if (!(nb > 1e-12 * start) || !(nb > 1e-300)) continue;
-      std::copy(b, b + n, basis + size_t(count) * n);
-      T[size_t(count)] = t;
-      norm2[size_t(count)] = nb;
-      ++count;
-    }
+    const double worst_ratio = basis.add_terms(k, terms);
     // Above degree 2, a degree is taken only when the points determine every one of its
     // terms: a monomial that is almost a combination of the lower ones over the points
     // (|residual| < kDetermined |monomial|) is free between them. Contours on a few
@@ -278,11 +327,7 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
     constexpr double kDetermined = 0.05;
     if (degree > 2 && worst_ratio < kDetermined * kDetermined) break;
     k = terms;
-    for (int j = accepted; j < count; ++j) {
-      const double coef = dot(target, basis + size_t(j) * n) / norm2[size_t(j)];
-      for (int c = 0; c < 15; ++c) h[size_t(c)] += coef * T[size_t(j)][size_t(c)];
-    }
-    accepted = count;
+    basis.accept(h);
     if (degree < 2) continue;
     Leaf leaf = make_leaf(ball, frame, FitKind::kHeightOrthopoly);
     leaf.degree = uint8_t(degree);
@@ -290,10 +335,9 @@ Leaf fit_height_orthopoly(const Ball& ball, const PointCloud& cloud, const Eigen
     leaf.coeffs[15] = 1;  // q = w - h(u, v)
     const double e = taubin_error_local(leaf, l);
     // A higher degree is kept only when it lowers the error by at least 10% below the best
-    // so far; a degree that does not still leads on to the next. (On a sphere the cubic
-    // terms lower nothing, and stopping there kept degree 2, whose curvature is off by
-    // about R^2 / 4 r^2 as it takes up the quartic term: 3.2% of K over the sphere, 14.7%
-    // over the sliced torus, 5.5% with the quartic tried.)
+    // so far; a degree that does not still leads on to the next (on a sphere the cubic
+    // terms lower nothing, and the quartic term still mends the curvature that a
+    // quadratic takes up wrongly).
     if (degree == 2 || e < 0.9 * best_error) {
       best = leaf;
       best_error = e;

@@ -32,44 +32,74 @@ MPUMESH_SIMD_TARGET inline double lane_total(typename I::V a) {
   return t;
 }
 
-// Eight leaves' terms at the point, added to the running sums (chunk_terms and
-// chunk_sums of the reference). `pad_from`: lanes from it on are padding, 4 R away along
-// x, as the reference pads; f0 is set from lane 0 when `first`.
-template <class I, int kOrder>
-MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const double* const* p, const double x[3], int pad_from, double pad_dx,
-                                           bool first, double& f0, Sums<I>& s) {
+// One block of eight leaves at the point: the offsets from their centres, their weights
+// (bspline_weight) and the point in each leaf's scaled frame (u, v, w), with its
+// coefficients c (F + 13).
+template <class I>
+struct LeafBlock {
+  using V = typename I::V;
+  V F[36];
+  V dx, dy, dz, r2, r, R, invR;
+  V w, dw, d2w;
+  V M[9];  // frame rows u, v, w; F holds the frame column-major
+  V u, v, ww, u2, v2, uv;
+  const V* c;
+};
+
+#define MPUMESH_SIMD_STEP MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline
+
+// The leaves' data, and the point's offsets from their centres: lanes from `pad_from` on
+// are padding, 4 R away along x, as the reference pads.
+template <class I>
+MPUMESH_SIMD_STEP void load_block(const double* const* p, const double x[3], int pad_from, double pad_dx,
+                                  LeafBlock<I>& b) {
+  I::load_leaves(p, b.F);
+  b.dx = I::sub(I::set1(x[0]), b.F[0]), b.dy = I::sub(I::set1(x[1]), b.F[1]), b.dz = I::sub(I::set1(x[2]), b.F[2]);
+  if (pad_from < 8) {
+    const typename I::Mask pad = I::lanes_from(pad_from);
+    b.dx = I::sel(pad, I::set1(pad_dx), b.dx);
+    b.dy = I::sel(pad, I::zero(), b.dy);
+    b.dz = I::sel(pad, I::zero(), b.dz);
+  }
+  b.r2 = I::add(I::add(I::mul(b.dx, b.dx), I::mul(b.dy, b.dy)), I::mul(b.dz, b.dz));
+  b.R = b.F[3];
+  b.r = I::sqrt(b.r2);
+}
+
+// The weight w(r) = b(1.5 r / R) and its first two derivatives in r (bspline_weight).
+template <class I>
+MPUMESH_SIMD_STEP void block_weights(LeafBlock<I>& b) {
   using V = typename I::V;
   using Mask = typename I::Mask;
-  V F[36];
-  I::load_leaves(p, F);
-  V dx = I::sub(I::set1(x[0]), F[0]), dy = I::sub(I::set1(x[1]), F[1]), dz = I::sub(I::set1(x[2]), F[2]);
-  if (pad_from < 8) {
-    const Mask pad = I::lanes_from(pad_from);
-    dx = I::sel(pad, I::set1(pad_dx), dx);
-    dy = I::sel(pad, I::zero(), dy);
-    dz = I::sel(pad, I::zero(), dz);
-  }
-  const V r2 = I::add(I::add(I::mul(dx, dx), I::mul(dy, dy)), I::mul(dz, dz));
-  const V R = F[3];
-  const V r = I::sqrt(r2);
-  const V c15 = I::set1(1.5), c05 = I::set1(0.5), m2 = I::set1(-2.0), two = I::set1(2.0), three = I::set1(3.0),
-          four = I::set1(4.0);
-  // bspline_weight
-  const V sw = I::div(c15, R), t = I::mul(sw, r), tm = I::sub(t, c15);
+  const V c15 = I::set1(1.5), c05 = I::set1(0.5), m2 = I::set1(-2.0);
+  const V sw = I::div(c15, b.R), t = I::mul(sw, b.r), tm = I::sub(t, c15);
   const V inner_w = I::sub(I::set1(0.75), I::mul(t, t)), outer_w = I::mul(I::mul(c05, tm), tm);
   const Mask in = I::le(t, c05), sup = I::lt(t, c15);
-  const V w = I::keep(sup, I::sel(in, inner_w, outer_w));
-  const V dw = I::keep(sup, I::sel(in, I::mul(I::mul(m2, t), sw), I::mul(tm, sw)));
-  const V d2w = I::keep(sup, I::sel(in, I::mul(I::mul(m2, sw), sw), I::mul(sw, sw)));
-  const V invR = I::div(I::set1(1.0), R);
-  V M[9];  // frame rows u, v, w; F holds the frame column-major
+  b.w = I::keep(sup, I::sel(in, inner_w, outer_w));
+  b.dw = I::keep(sup, I::sel(in, I::mul(I::mul(m2, t), sw), I::mul(tm, sw)));
+  b.d2w = I::keep(sup, I::sel(in, I::mul(I::mul(m2, sw), sw), I::mul(sw, sw)));
+  b.invR = I::div(I::set1(1.0), b.R);
+}
+
+// The point in each leaf's frame, scaled by 1 / R.
+template <class I>
+MPUMESH_SIMD_STEP void block_frame(LeafBlock<I>& b) {
   for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b) M[3 * a + b] = F[4 + a + 3 * b];
-  const V u = I::mul(I::add(I::add(I::mul(M[0], dx), I::mul(M[1], dy)), I::mul(M[2], dz)), invR);
-  const V v = I::mul(I::add(I::add(I::mul(M[3], dx), I::mul(M[4], dy)), I::mul(M[5], dz)), invR);
-  const V ww = I::mul(I::add(I::add(I::mul(M[6], dx), I::mul(M[7], dy)), I::mul(M[8], dz)), invR);
-  const V* c = F + 13;
-  const V u2 = I::mul(u, u), v2 = I::mul(v, v), uv = I::mul(u, v);
+    for (int k = 0; k < 3; ++k) b.M[3 * a + k] = b.F[4 + a + 3 * k];
+  const auto* M = b.M;
+  b.u = I::mul(I::add(I::add(I::mul(M[0], b.dx), I::mul(M[1], b.dy)), I::mul(M[2], b.dz)), b.invR);
+  b.v = I::mul(I::add(I::add(I::mul(M[3], b.dx), I::mul(M[4], b.dy)), I::mul(M[5], b.dz)), b.invR);
+  b.ww = I::mul(I::add(I::add(I::mul(M[6], b.dx), I::mul(M[7], b.dy)), I::mul(M[8], b.dz)), b.invR);
+  b.c = b.F + 13;
+  b.u2 = I::mul(b.u, b.u), b.v2 = I::mul(b.v, b.v), b.uv = I::mul(b.u, b.v);
+}
+
+// The local function's value q (in units of R).
+template <class I>
+MPUMESH_SIMD_STEP typename I::V block_value(const LeafBlock<I>& b) {
+  using V = typename I::V;
+  const V* c = b.c;
+  const V u = b.u, v = b.v, ww = b.ww, u2 = b.u2, v2 = b.v2, uv = b.uv;
   V q = c[0];
   q = I::add(q, I::mul(c[1], u));
   q = I::add(q, I::mul(c[2], v));
@@ -92,110 +122,161 @@ MPUMESH_SIMD_TARGET __attribute__((always_inline)) inline void leaf_block(const 
   q = I::add(q, I::mul(I::mul(c[19], u2), ww));
   q = I::add(q, I::mul(I::mul(c[20], uv), ww));
   q = I::add(q, I::mul(I::mul(c[21], v2), ww));
-  const V Q = I::mul(R, q);
-  if (first) f0 = I::first(Q);
-  const V Qs = I::sub(Q, I::set1(f0));
-  s.N = I::add(s.N, I::mul(w, Qs));
-  s.D = I::add(s.D, w);
-  if constexpr (kOrder >= 1) {
-    V g0 = c[1];
-    g0 = I::add(g0, I::mul(I::mul(two, c[3]), u));
-    g0 = I::add(g0, I::mul(c[4], v));
-    g0 = I::add(g0, I::mul(I::mul(three, c[6]), u2));
-    g0 = I::add(g0, I::mul(I::mul(two, c[7]), uv));
-    g0 = I::add(g0, I::mul(c[8], v2));
-    g0 = I::add(g0, I::mul(I::mul(I::mul(four, c[10]), u2), u));
-    g0 = I::add(g0, I::mul(I::mul(I::mul(three, c[11]), u2), v));
-    g0 = I::add(g0, I::mul(I::mul(I::mul(two, c[12]), u), v2));
-    g0 = I::add(g0, I::mul(I::mul(c[13], v2), v));
-    g0 = I::add(g0, I::mul(c[17], ww));
-    g0 = I::add(g0, I::mul(I::mul(I::mul(two, c[19]), u), ww));
-    g0 = I::add(g0, I::mul(I::mul(c[20], v), ww));
-    V g1 = c[2];
-    g1 = I::add(g1, I::mul(c[4], u));
-    g1 = I::add(g1, I::mul(I::mul(two, c[5]), v));
-    g1 = I::add(g1, I::mul(c[7], u2));
-    g1 = I::add(g1, I::mul(I::mul(two, c[8]), uv));
-    g1 = I::add(g1, I::mul(I::mul(three, c[9]), v2));
-    g1 = I::add(g1, I::mul(I::mul(c[11], u2), u));
-    g1 = I::add(g1, I::mul(I::mul(I::mul(two, c[12]), u2), v));
-    g1 = I::add(g1, I::mul(I::mul(I::mul(three, c[13]), u), v2));
-    g1 = I::add(g1, I::mul(I::mul(I::mul(four, c[14]), v2), v));
-    g1 = I::add(g1, I::mul(c[18], ww));
-    g1 = I::add(g1, I::mul(I::mul(c[20], u), ww));
-    g1 = I::add(g1, I::mul(I::mul(I::mul(two, c[21]), v), ww));
-    V g2 = c[15];
-    g2 = I::add(g2, I::mul(I::mul(two, c[16]), ww));
-    g2 = I::add(g2, I::mul(c[17], u));
-    g2 = I::add(g2, I::mul(c[18], v));
-    g2 = I::add(g2, I::mul(c[19], u2));
-    g2 = I::add(g2, I::mul(c[20], uv));
-    g2 = I::add(g2, I::mul(c[21], v2));
-    const V sc = I::mul(c15, invR);
-    const Mask inner = I::le(I::mul(sc, r), c05);
-    const V k1 = I::sel(inner, I::mul(I::mul(m2, sc), sc), I::div(dw, r));
-    const V d[3] = {dx, dy, dz};
-    V gw[3], gQ[3];
-    for (int i = 0; i < 3; ++i) {
-      gw[i] = I::mul(k1, d[i]);
-      gQ[i] = I::add(I::add(I::mul(M[i], g0), I::mul(M[3 + i], g1)), I::mul(M[6 + i], g2));
-      s.gN[i] = I::add(s.gN[i], I::add(I::mul(Qs, gw[i]), I::mul(w, gQ[i])));
-      s.gD[i] = I::add(s.gD[i], gw[i]);
+  return q;
+}
+
+// The local function's gradient in the leaf's frame (g[0..2] along u, v, w).
+template <class I>
+MPUMESH_SIMD_STEP void block_gradient(const LeafBlock<I>& b, typename I::V g[3]) {
+  using V = typename I::V;
+  const V* c = b.c;
+  const V u = b.u, v = b.v, ww = b.ww, u2 = b.u2, v2 = b.v2, uv = b.uv;
+  const V two = I::set1(2.0), three = I::set1(3.0), four = I::set1(4.0);
+  V g0 = c[1];
+  g0 = I::add(g0, I::mul(I::mul(two, c[3]), u));
+  g0 = I::add(g0, I::mul(c[4], v));
+  g0 = I::add(g0, I::mul(I::mul(three, c[6]), u2));
+  g0 = I::add(g0, I::mul(I::mul(two, c[7]), uv));
+  g0 = I::add(g0, I::mul(c[8], v2));
+  g0 = I::add(g0, I::mul(I::mul(I::mul(four, c[10]), u2), u));
+  g0 = I::add(g0, I::mul(I::mul(I::mul(three, c[11]), u2), v));
+  g0 = I::add(g0, I::mul(I::mul(I::mul(two, c[12]), u), v2));
+  g0 = I::add(g0, I::mul(I::mul(c[13], v2), v));
+  g0 = I::add(g0, I::mul(c[17], ww));
+  g0 = I::add(g0, I::mul(I::mul(I::mul(two, c[19]), u), ww));
+  g0 = I::add(g0, I::mul(I::mul(c[20], v), ww));
+  V g1 = c[2];
+  g1 = I::add(g1, I::mul(c[4], u));
+  g1 = I::add(g1, I::mul(I::mul(two, c[5]), v));
+  g1 = I::add(g1, I::mul(c[7], u2));
+  g1 = I::add(g1, I::mul(I::mul(two, c[8]), uv));
+  g1 = I::add(g1, I::mul(I::mul(three, c[9]), v2));
+  g1 = I::add(g1, I::mul(I::mul(c[11], u2), u));
+  g1 = I::add(g1, I::mul(I::mul(I::mul(two, c[12]), u2), v));
+  g1 = I::add(g1, I::mul(I::mul(I::mul(three, c[13]), u), v2));
+  g1 = I::add(g1, I::mul(I::mul(I::mul(four, c[14]), v2), v));
+  g1 = I::add(g1, I::mul(c[18], ww));
+  g1 = I::add(g1, I::mul(I::mul(c[20], u), ww));
+  g1 = I::add(g1, I::mul(I::mul(I::mul(two, c[21]), v), ww));
+  V g2 = c[15];
+  g2 = I::add(g2, I::mul(I::mul(two, c[16]), ww));
+  g2 = I::add(g2, I::mul(c[17], u));
+  g2 = I::add(g2, I::mul(c[18], v));
+  g2 = I::add(g2, I::mul(c[19], u2));
+  g2 = I::add(g2, I::mul(c[20], uv));
+  g2 = I::add(g2, I::mul(c[21], v2));
+  g[0] = g0, g[1] = g1, g[2] = g2;
+}
+
+// The local function's Hessian in the leaf's frame, symmetric: H[a][b].
+template <class I>
+MPUMESH_SIMD_STEP void block_hessian(const LeafBlock<I>& b, typename I::V H[3][3]) {
+  using V = typename I::V;
+  const V* c = b.c;
+  const V u = b.u, v = b.v, ww = b.ww, u2 = b.u2, v2 = b.v2, uv = b.uv;
+  const V two = I::set1(2.0), three = I::set1(3.0), four = I::set1(4.0), six = I::set1(6.0), twelve = I::set1(12.0);
+  V h0 = I::mul(two, c[3]);
+  h0 = I::add(h0, I::mul(I::mul(six, c[6]), u));
+  h0 = I::add(h0, I::mul(I::mul(two, c[7]), v));
+  h0 = I::add(h0, I::mul(I::mul(twelve, c[10]), u2));
+  h0 = I::add(h0, I::mul(I::mul(six, c[11]), uv));
+  h0 = I::add(h0, I::mul(I::mul(two, c[12]), v2));
+  h0 = I::add(h0, I::mul(I::mul(two, c[19]), ww));
+  V h1 = c[4];
+  h1 = I::add(h1, I::mul(I::mul(two, c[7]), u));
+  h1 = I::add(h1, I::mul(I::mul(two, c[8]), v));
+  h1 = I::add(h1, I::mul(I::mul(three, c[11]), u2));
+  h1 = I::add(h1, I::mul(I::mul(four, c[12]), uv));
+  h1 = I::add(h1, I::mul(I::mul(three, c[13]), v2));
+  h1 = I::add(h1, I::mul(c[20], ww));
+  V h3 = I::mul(two, c[5]);
+  h3 = I::add(h3, I::mul(I::mul(two, c[8]), u));
+  h3 = I::add(h3, I::mul(I::mul(six, c[9]), v));
+  h3 = I::add(h3, I::mul(I::mul(two, c[12]), u2));
+  h3 = I::add(h3, I::mul(I::mul(six, c[13]), uv));
+  h3 = I::add(h3, I::mul(I::mul(twelve, c[14]), v2));
+  h3 = I::add(h3, I::mul(I::mul(two, c[21]), ww));
+  V h2 = c[17];
+  h2 = I::add(h2, I::mul(I::mul(two, c[19]), u));
+  h2 = I::add(h2, I::mul(c[20], v));
+  V h4 = c[18];
+  h4 = I::add(h4, I::mul(c[20], u));
+  h4 = I::add(h4, I::mul(I::mul(two, c[21]), v));
+  const V h5 = I::mul(two, c[16]);
+  H[0][0] = h0, H[0][1] = h1, H[0][2] = h2;
+  H[1][0] = h1, H[1][1] = h3, H[1][2] = h4;
+  H[2][0] = h2, H[2][1] = h4, H[2][2] = h5;
+}
+
+// The blended sums' derivative terms: the gradient's (kOrder >= 1), the leaves' own
+// Hessians' (kOrder >= 2) and the Hessian of f's (kOrder >= 3).
+template <class I, int kOrder>
+MPUMESH_SIMD_STEP void add_derivatives(const LeafBlock<I>& b, typename I::V Qs, Sums<I>& s) {
+  using V = typename I::V;
+  using Mask = typename I::Mask;
+  const V* M = b.M;
+  V g[3];
+  block_gradient(b, g);
+  const V c15 = I::set1(1.5), c05 = I::set1(0.5), m2 = I::set1(-2.0);
+  const V sc = I::mul(c15, b.invR);
+  const Mask inner = I::le(I::mul(sc, b.r), c05);
+  const V k1 = I::sel(inner, I::mul(I::mul(m2, sc), sc), I::div(b.dw, b.r));
+  const V d[3] = {b.dx, b.dy, b.dz};
+  V gw[3], gQ[3];
+  for (int i = 0; i < 3; ++i) {
+    gw[i] = I::mul(k1, d[i]);
+    gQ[i] = I::add(I::add(I::mul(M[i], g[0]), I::mul(M[3 + i], g[1])), I::mul(M[6 + i], g[2]));
+    s.gN[i] = I::add(s.gN[i], I::add(I::mul(Qs, gw[i]), I::mul(b.w, gQ[i])));
+    s.gD[i] = I::add(s.gD[i], gw[i]);
+  }
+  if constexpr (kOrder >= 2) {
+    V Hl[3][3];
+    block_hessian(b, Hl);
+    V A[3][3];
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k)
+        A[a][k] = I::add(I::add(I::mul(Hl[a][0], M[k]), I::mul(Hl[a][1], M[3 + k])), I::mul(Hl[a][2], M[6 + k]));
+    constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
+    V HQ[6];
+    for (int e = 0; e < 6; ++e) {
+      const int i = kI[e], k = kJ[e];
+      HQ[e] = I::mul(I::add(I::add(I::mul(M[i], A[0][k]), I::mul(M[3 + i], A[1][k])), I::mul(M[6 + i], A[2][k])),
+                     b.invR);
+      s.HbN[e] = I::add(s.HbN[e], I::mul(b.w, HQ[e]));
     }
-    if constexpr (kOrder >= 2) {
-      const V six = I::set1(6.0), twelve = I::set1(12.0);
-      V h0 = I::mul(two, c[3]);
-      h0 = I::add(h0, I::mul(I::mul(six, c[6]), u));
-      h0 = I::add(h0, I::mul(I::mul(two, c[7]), v));
-      h0 = I::add(h0, I::mul(I::mul(twelve, c[10]), u2));
-      h0 = I::add(h0, I::mul(I::mul(six, c[11]), uv));
-      h0 = I::add(h0, I::mul(I::mul(two, c[12]), v2));
-      h0 = I::add(h0, I::mul(I::mul(two, c[19]), ww));
-      V h1 = c[4];
-      h1 = I::add(h1, I::mul(I::mul(two, c[7]), u));
-      h1 = I::add(h1, I::mul(I::mul(two, c[8]), v));
-      h1 = I::add(h1, I::mul(I::mul(three, c[11]), u2));
-      h1 = I::add(h1, I::mul(I::mul(four, c[12]), uv));
-      h1 = I::add(h1, I::mul(I::mul(three, c[13]), v2));
-      h1 = I::add(h1, I::mul(c[20], ww));
-      V h3 = I::mul(two, c[5]);
-      h3 = I::add(h3, I::mul(I::mul(two, c[8]), u));
-      h3 = I::add(h3, I::mul(I::mul(six, c[9]), v));
-      h3 = I::add(h3, I::mul(I::mul(two, c[12]), u2));
-      h3 = I::add(h3, I::mul(I::mul(six, c[13]), uv));
-      h3 = I::add(h3, I::mul(I::mul(twelve, c[14]), v2));
-      h3 = I::add(h3, I::mul(I::mul(two, c[21]), ww));
-      V h2 = c[17];
-      h2 = I::add(h2, I::mul(I::mul(two, c[19]), u));
-      h2 = I::add(h2, I::mul(c[20], v));
-      V h4 = c[18];
-      h4 = I::add(h4, I::mul(c[20], u));
-      h4 = I::add(h4, I::mul(I::mul(two, c[21]), v));
-      const V h5 = I::mul(two, c[16]);
-      const V Hl[3][3] = {{h0, h1, h2}, {h1, h3, h4}, {h2, h4, h5}};
-      V A[3][3];
-      for (int a = 0; a < 3; ++a)
-        for (int b = 0; b < 3; ++b)
-          A[a][b] = I::add(I::add(I::mul(Hl[a][0], M[b]), I::mul(Hl[a][1], M[3 + b])), I::mul(Hl[a][2], M[6 + b]));
-      constexpr int kI[6] = {0, 0, 0, 1, 1, 2}, kJ[6] = {0, 1, 2, 1, 2, 2};
-      V HQ[6];
+    if constexpr (kOrder >= 3) {
+      const V k2 = I::sel(inner, I::zero(), I::div(I::sub(b.d2w, I::div(b.dw, b.r)), b.r2));
       for (int e = 0; e < 6; ++e) {
         const int i = kI[e], k = kJ[e];
-        HQ[e] = I::mul(I::add(I::add(I::mul(M[i], A[0][k]), I::mul(M[3 + i], A[1][k])), I::mul(M[6 + i], A[2][k])), invR);
-        s.HbN[e] = I::add(s.HbN[e], I::mul(w, HQ[e]));
-      }
-      if constexpr (kOrder >= 3) {
-        const V k2 = I::sel(inner, I::zero(), I::div(I::sub(d2w, I::div(dw, r)), r2));
-        for (int e = 0; e < 6; ++e) {
-          const int i = kI[e], k = kJ[e];
-          const V Hw = I::add(i == k ? k1 : I::zero(), I::mul(I::mul(k2, d[i]), d[k]));
-          s.HN[e] = I::add(s.HN[e], I::add(I::add(I::add(I::mul(Qs, Hw), I::mul(gw[i], gQ[k])), I::mul(gQ[i], gw[k])), I::mul(w, HQ[e])));
-          s.HD[e] = I::add(s.HD[e], Hw);
-        }
+        const V Hw = I::add(i == k ? k1 : I::zero(), I::mul(I::mul(k2, d[i]), d[k]));
+        s.HN[e] = I::add(s.HN[e], I::add(I::add(I::add(I::mul(Qs, Hw), I::mul(gw[i], gQ[k])), I::mul(gQ[i], gw[k])),
+                                          I::mul(b.w, HQ[e])));
+        s.HD[e] = I::add(s.HD[e], Hw);
       }
     }
   }
 }
+
+// Eight leaves' terms at the point, added to the running sums (chunk_terms and
+// chunk_sums of the reference). `pad_from`: lanes from it on are padding, 4 R away along
+// x, as the reference pads; f0 is set from lane 0 when `first`.
+template <class I, int kOrder>
+MPUMESH_SIMD_STEP void leaf_block(const double* const* p, const double x[3], int pad_from, double pad_dx, bool first,
+                                  double& f0, Sums<I>& s) {
+  using V = typename I::V;
+  LeafBlock<I> b;
+  load_block(p, x, pad_from, pad_dx, b);
+  block_weights(b);
+  block_frame(b);
+  const V Q = I::mul(b.R, block_value(b));
+  if (first) f0 = I::first(Q);
+  const V Qs = I::sub(Q, I::set1(f0));
+  s.N = I::add(s.N, I::mul(b.w, Qs));
+  s.D = I::add(s.D, b.w);
+  if constexpr (kOrder >= 1) add_derivatives<I, kOrder>(b, Qs, s);
+}
+
+#undef MPUMESH_SIMD_STEP
 
 template <class I, int kOrder>
 MPUMESH_SIMD_TARGET EvalOut eval_kernel(const EvalView& view, const double x[3]) {

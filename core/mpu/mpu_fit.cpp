@@ -16,6 +16,7 @@
 #include "common/lap_timer.h"
 #include "common/kd_tree.h"
 #include "mpu/ball_search.h"
+#include "mpu/fit_points.h"
 #include "mpu/lattice_cache.h"
 #include "mpu/local_fit.h"
 
@@ -48,59 +49,6 @@ void validate(const FitOptions& o) {
 }
 
 namespace {
-
-// The cloud without exact duplicates (the first of each position kept): a repeated point
-// would make the median spacing, hence eps and the smallest radius, zero. Found with an
-// open-addressing table of the kept points, keyed by their coordinates' bits (-0 as +0,
-// since they compare equal), in place of a sort of the points by position: on the sample
-// CT the fit's setup (which also builds the k-d tree) went from 0.074 to 0.060 s.
-PointCloud without_duplicates(const PointCloud& in, int64_t* removed) {
-  auto bits = [](double v) {
-    uint64_t u;
-    v += 0.0;  // -0 becomes +0
-    std::memcpy(&u, &v, sizeof u);
-    return u;
-  };
-  auto hash = [&](const Eigen::Vector3d& p) {
-    uint64_t h = bits(p.x()) * 0x9E3779B97F4A7C15ull;
-    h = (h ^ (h >> 29) ^ bits(p.y())) * 0xBF58476D1CE4E5B9ull;
-    h = (h ^ (h >> 32) ^ bits(p.z())) * 0x94D049BB133111EBull;
-    return h ^ (h >> 31);
-  };
-  size_t slots = 16;
-  while (slots < 2 * in.size()) slots *= 2;
-  std::vector<uint32_t> table(slots, UINT32_MAX);  // a kept point's index, or empty
-  PointCloud out;
-  out.positions.reserve(in.size());
-  out.normals.reserve(in.size());
-  for (size_t i = 0; i < in.size(); ++i) {
-    const Eigen::Vector3d& p = in.positions[i];
-    size_t at = hash(p) & (slots - 1);
-    while (table[at] != UINT32_MAX && in.positions[table[at]] != p) at = (at + 1) & (slots - 1);
-    if (table[at] != UINT32_MAX) continue;  // a repeat of a kept point
-    table[at] = uint32_t(i);
-    out.positions.push_back(p);
-    out.normals.push_back(in.normals[i]);
-  }
-  *removed = int64_t(in.size() - out.size());
-  return out;
-}
-
-// Refuses points that span no volume: all on one plane (or line), where no closed surface
-// can be fitted.
-void check_not_flat(const PointCloud& c) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : c.positions) mean += p;
-  mean /= double(c.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const auto& p : c.positions) cov += (p - mean) * (p - mean).transpose();
-  cov /= double(c.size());
-  const Eigen::Vector3d ev = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvalues();
-  const double thick = std::sqrt(std::max(ev[0], 0.0)), wide = std::sqrt(std::max(ev[2], 0.0));
-  if (!(thick > 1e-4 * wide) || !(wide > 0))
-    throw InputError("fit: the points lie on one plane (spread " + std::to_string(thick) + " mm across it, " +
-                     std::to_string(wide) + " mm along it): a closed surface needs points around a volume");
-}
 
 // The state of one fit: the distinct points, their searches, the surface being built,
 // and the auxiliary points' values cached per octree level.
@@ -592,72 +540,6 @@ MpuSurface fit_mpu(const PointCloud& input, const FitOptions& opt, FitStats* sta
   st.duplicates_removed = duplicates;
   if (stats) *stats = st;
   return s;
-}
-
-void build_lookup_grid(MpuSurface& s, uint32_t n) {
-  MPUMESH_ASSERT(n >= 1 && n <= 1024, "lookup grid size");
-  s.grid.dims = {n, n, n};
-  const double cell = s.box_size / double(n);
-  const size_t cells = size_t(n) * n * n;
-  // The z range of grid cells that leaf l's ball spans, and fn(cell index) for every cell
-  // of slice z that the ball touches (ball-box test: the cell's closest point to the
-  // centre lies inside the ball).
-  auto z_range = [&](const Leaf& l, int64_t& lo, int64_t& hi) {
-    lo = std::clamp<int64_t>(int64_t(std::floor((l.centre.z() - s.box_min.z() - l.radius) / cell)), 0, n - 1);
-    hi = std::clamp<int64_t>(int64_t(std::floor((l.centre.z() - s.box_min.z() + l.radius) / cell)), 0, n - 1);
-  };
-  auto for_cells_in_slice = [&](const Leaf& l, int64_t z, auto&& fn) {
-    const Eigen::Vector3d a = (l.centre - s.box_min - Eigen::Vector3d::Constant(l.radius)) / cell;
-    const Eigen::Vector3d b = (l.centre - s.box_min + Eigen::Vector3d::Constant(l.radius)) / cell;
-    int64_t lo[2], hi[2];
-    for (int d = 0; d < 2; ++d) {
-      lo[d] = std::clamp<int64_t>(int64_t(std::floor(a[d])), 0, n - 1);
-      hi[d] = std::clamp<int64_t>(int64_t(std::floor(b[d])), 0, n - 1);
-    }
-    // The squared distance from the centre to the cell's closest point is a sum of one
-    // term per axis: each term is computed once per row and column, as the box test
-    // computed it per cell (the same bits: the same grid).
-    auto axis_term = [&](int d, int64_t i) {
-      const double c = l.centre[d], lo_d = s.box_min[d] + cell * double(i);
-      const double q = std::min(std::max(c, lo_d), lo_d + cell);
-      return (q - c) * (q - c);
-    };
-    double tx[1024], ty[1024];
-    for (int64_t x = lo[0]; x <= hi[0]; ++x) tx[x - lo[0]] = axis_term(0, x);
-    for (int64_t y = lo[1]; y <= hi[1]; ++y) ty[y - lo[1]] = axis_term(1, y);
-    const double tz = axis_term(2, z), r2 = l.radius * l.radius;
-    for (int64_t y = lo[1]; y <= hi[1]; ++y)
-      for (int64_t x = lo[0]; x <= hi[0]; ++x)
-        if (tx[x - lo[0]] + ty[y - lo[1]] + tz < r2) fn(size_t(x + n * (y + n * z)));
-  };
-  // The leaves of each z slice (ascending), then count and fill (CSR) slice by slice in
-  // parallel, so that leaf ids stay in ascending order per cell.
-  std::vector<std::vector<uint32_t>> slice(n);
-  for (uint32_t id = 0; id < s.leaves.size(); ++id) {
-    int64_t lo, hi;
-    z_range(s.leaves[id], lo, hi);
-    for (int64_t z = lo; z <= hi; ++z) slice[size_t(z)].push_back(id);
-  }
-  s.grid.offsets.assign(cells + 1, 0);
-  tbb::parallel_for(uint32_t(0), n, [&](uint32_t z) {
-    for (uint32_t id : slice[z]) for_cells_in_slice(s.leaves[id], z, [&](size_t c) { ++s.grid.offsets[c + 1]; });
-  });
-  for (size_t c = 0; c < cells; ++c) s.grid.offsets[c + 1] += s.grid.offsets[c];
-  s.grid.leaf_ids.resize(s.grid.offsets[cells]);
-  std::vector<uint32_t> fill(s.grid.offsets.begin(), s.grid.offsets.end() - 1);
-  tbb::parallel_for(uint32_t(0), n, [&](uint32_t z) {
-    for (uint32_t id : slice[z])
-      for_cells_in_slice(s.leaves[id], z, [&](size_t c) { s.grid.leaf_ids[fill[c]++] = id; });
-  });
-  index_spheres(s);
-}
-
-void index_spheres(MpuSurface& s) {
-  s.grid.spheres.resize(s.leaves.size());
-  for (size_t i = 0; i < s.leaves.size(); ++i) {
-    const Leaf& l = s.leaves[i];
-    s.grid.spheres[i] = Eigen::Vector4d(l.centre.x(), l.centre.y(), l.centre.z(), l.radius * l.radius);
-  }
 }
 
 }  // namespace mpumesh::mpu

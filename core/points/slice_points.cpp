@@ -102,154 +102,175 @@ std::vector<Part> contour_points(const SliceStack& g) {
   return parts;
 }
 
-// Cap points between padded slices pk and pk + 1 (part pk, k = pk - 1): see the header.
-std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) {
-  const int64_t px = g.px, py = g.py, n = g.n, nz = g.nz;
-  const double sx = g.sx, sy = g.sy, sz = g.sz;
-  const float* field = g.field;
-  std::vector<Part> caps(size_t(nz + 1));
-  if (!opt.caps) return caps;
-  const double min_sq = sz * sz, half_pixel = 0.5 * std::min(sx, sy);
-  // Pixel offsets closer than a slice spacing.
-  std::vector<std::pair<int64_t, int64_t>> disk;
-  const int64_t rx = int64_t(std::ceil(sz / sx)), ry = int64_t(std::ceil(sz / sy));
-  for (int64_t dj = -ry; dj <= ry; ++dj)
-    for (int64_t di = -rx; di <= rx; ++di)
-      if (std::pow(double(di) * sx, 2) + std::pow(double(dj) * sy, 2) < min_sq) disk.emplace_back(di, dj);
-  // One slice's mask and, computed when first needed, the squared distances to its
-  // region and to its outside. Consecutive pairs share a slice, so each range of pairs
-  // walks up the stack and computes every transform once.
-  struct SliceMaps {
-    int64_t pk = -1;
-    std::vector<uint8_t> mask;
-    std::vector<float> to_region, to_outside;
-    bool has_region = false, has_outside = false;
-  };
-  auto load = [&](SliceMaps& m, int64_t pk) {
+// One slice's mask and, computed when first needed, the squared distances to its region
+// and to its outside. Consecutive pairs share a slice, so each range of pairs walks up the
+// stack and computes every transform once.
+struct SliceMaps {
+  int64_t pk = -1;
+  std::vector<uint8_t> mask;
+  std::vector<float> to_region, to_outside;
+  bool has_region = false, has_outside = false;
+};
+
+// The cap points between padded slices pk and pk + 1 (part pk, k = pk - 1): see the header.
+class CapBuilder {
+ public:
+  CapBuilder(const SliceStack& g, const PointOptions& opt)
+      : g_(g), opt_(opt), min_sq_(g.sz * g.sz), half_pixel_(0.5 * std::min(g.sx, g.sy)) {
+    // Pixel offsets closer than a slice spacing.
+    const int64_t rx = int64_t(std::ceil(g.sz / g.sx)), ry = int64_t(std::ceil(g.sz / g.sy));
+    for (int64_t dj = -ry; dj <= ry; ++dj)
+      for (int64_t di = -rx; di <= rx; ++di)
+        if (std::pow(double(di) * g.sx, 2) + std::pow(double(dj) * g.sy, 2) < min_sq_) disk_.emplace_back(di, dj);
+  }
+
+  std::vector<Part> build() const {
+    std::vector<Part> caps(size_t(g_.nz + 1));
+    if (!opt_.caps) return caps;
+    tbb::parallel_for(tbb::blocked_range<int64_t>(0, g_.nz + 1, 8), [&](const tbb::blocked_range<int64_t>& r) {
+      SliceMaps lo, hi;
+      load(lo, r.begin());
+      for (int64_t pk = r.begin(); pk != r.end(); ++pk) {
+        load(hi, pk + 1);
+        add_caps(lo, hi, 1.0, caps[size_t(pk)], int32_t(pk - 1));   // the region ends going up: faces +z
+        add_caps(hi, lo, -1.0, caps[size_t(pk)], int32_t(pk - 1));  // the region starts going up: faces -z
+        std::swap(lo, hi);
+      }
+    });
+    return caps;
+  }
+
+ private:
+  void load(SliceMaps& m, int64_t pk) const {
     m.pk = pk;
-    m.mask.resize(size_t(n));
-    for (int64_t p = 0; p < n; ++p) m.mask[size_t(p)] = field[p + n * pk] >= 0.0f;
+    m.mask.resize(size_t(g_.n));
+    for (int64_t p = 0; p < g_.n; ++p) m.mask[size_t(p)] = g_.field[p + g_.n * pk] >= 0.0f;
     m.has_region = m.has_outside = false;
-  };
-  auto region_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
-    if (!m.has_region) seg::squared_distance_2d(m.mask.data(), px, py, 1, sx, sy, m.to_region);
+  }
+  const std::vector<float>& region_d2(SliceMaps& m) const {
+    if (!m.has_region) seg::squared_distance_2d(m.mask.data(), g_.px, g_.py, 1, g_.sx, g_.sy, m.to_region);
     m.has_region = true;
     return m.to_region;
-  };
-  auto outside_d2 = [&](SliceMaps& m) -> const std::vector<float>& {
-    if (!m.has_outside) seg::squared_distance_2d(m.mask.data(), px, py, 0, sx, sy, m.to_outside);
+  }
+  const std::vector<float>& outside_d2(SliceMaps& m) const {
+    if (!m.has_outside) seg::squared_distance_2d(m.mask.data(), g_.px, g_.py, 0, g_.sx, g_.sy, m.to_outside);
     m.has_outside = true;
     return m.to_outside;
-  };
-  // The field's 3 x 3 in-plane mean at padded slice pk (the field is the intensity
-  // relative to the threshold; the mean cuts the noise by three).
+  }
   // The in-plane pixel indices (a + px b) of the 3 x 3 box at (i, j), cut at the border.
-  auto box = [&](int64_t i, int64_t j) {
+  std::pair<std::array<int64_t, 9>, size_t> box(int64_t i, int64_t j) const {
     std::array<int64_t, 9> ids{};
     size_t n_ids = 0;
-    for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, py - 1); ++b)
-      for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, px - 1); ++a) ids[n_ids++] = a + px * b;
-    return std::make_pair(ids, n_ids);
-  };
-  auto box_mean = [&](int64_t pk, int64_t i, int64_t j) {
+    for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, g_.py - 1); ++b)
+      for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, g_.px - 1); ++a) ids[n_ids++] = a + g_.px * b;
+    return {ids, n_ids};
+  }
+  // The field's 3 x 3 in-plane mean at padded slice pk (the field is the intensity
+  // relative to the threshold; the mean cuts the noise by three).
+  double box_mean(int64_t pk, int64_t i, int64_t j) const {
     const auto [ids, n_ids] = box(i, j);
     double sum = 0;
-    for (size_t k = 0; k < n_ids; ++k) sum += field[ids[k] + n * pk];
+    for (size_t k = 0; k < n_ids; ++k) sum += g_.field[ids[k] + g_.n * pk];
     return sum / double(n_ids);
-  };
-  auto real_slice = [&](int64_t pk) { return pk >= 1 && pk <= nz; };
+  }
+  bool real_slice(int64_t pk) const { return pk >= 1 && pk <= g_.nz; }
   // A level's mean over the (2 kLevelBox + 1)² box at (i, j), cut at the border.
-  auto level_mean = [&](int64_t pk, int64_t i, int64_t j) {
+  double level_mean(int64_t pk, int64_t i, int64_t j) const {
     double sum = 0;
     int count = 0;
-    for (int64_t b = std::max<int64_t>(j - kLevelBox, 0); b <= std::min(j + kLevelBox, py - 1); ++b)
-      for (int64_t a = std::max<int64_t>(i - kLevelBox, 0); a <= std::min(i + kLevelBox, px - 1); ++a, ++count)
-        sum += field[a + px * b + n * pk];
+    for (int64_t b = std::max<int64_t>(j - kLevelBox, 0); b <= std::min(j + kLevelBox, g_.py - 1); ++b)
+      for (int64_t a = std::max<int64_t>(i - kLevelBox, 0); a <= std::min(i + kLevelBox, g_.px - 1); ++a, ++count)
+        sum += g_.field[a + g_.px * b + g_.n * pk];
     return sum / double(count);
-  };
-  // The height from the partial volume, in slices from `from`'s plane toward `to`'s:
-  // the slab of `from` spans [-1/2, 1/2] and `to`'s [1/2, 3/2]; the column is inside
-  // from below -1/2 up to the surface, so the grey of the two slabs says how far: the
-  // inside fractions' sum is (g_from + g_to - 2 g_out) / (g_in - g_out). The levels are
-  // local: g_in from the slice behind `from`, g_out from the one beyond `to`. Exact for
-  // a plane over the pixel when the slices are as thick as their spacing; the ruled
-  // surface between the contours lies inside every convex dome by its sagitta (0.3-1 mm
-  // on a 12 mm cap in 2.5 mm slices). -1 (not known, the ruled height stays) unless the
-  // column is what that reading assumes: the pixel and its neighbours inside `from` and
-  // outside `to`; one level for two slabs behind `from` and one beyond `to` (not a
-  // plate or gap thinner than that, nor bright cortex over dim marrow); the two slabs
-  // between those levels; and not both whole (a mask has no partial volume).
-  auto partial_volume_rise = [&](const SliceMaps& from, const SliceMaps& to, int64_t i, int64_t j) {
-    const int64_t step = to.pk - from.pk, behind = from.pk - step, beyond = to.pk + step;
-    if (!real_slice(behind) || !real_slice(behind - step) || !real_slice(beyond)) return -1.0;
-    const auto [ids, n_ids] = box(i, j);
-    for (size_t k = 0; k < n_ids; ++k)
-      if (!from.mask[size_t(ids[k])] || to.mask[size_t(ids[k])]) return -1.0;
-    const double g_from = box_mean(from.pk, i, j), g_to = box_mean(to.pk, i, j);
-    const double g_in = level_mean(behind, i, j), g_out = level_mean(beyond, i, j);
-    const double contrast = g_in - g_out, slack = kLevelSlack * contrast;
-    if (!(g_in > 0 && g_out < 0)) return -1.0;
-    // One level behind (two slabs alike), one beyond, and the two slabs between them.
-    if (std::abs(box_mean(behind - step, i, j) - g_in) > slack) return -1.0;
-    if (real_slice(beyond + step) && std::abs(box_mean(beyond + step, i, j) - g_out) > slack) return -1.0;
-    if (g_from > g_in + slack || g_to < g_out - slack) return -1.0;
-    // Both slabs whole (a mask, or a surface on the slabs' boundary): the grey adds nothing.
-    if (g_from > g_in - kLevelSlack * slack && g_to < g_out + kLevelSlack * slack) return -1.0;
-    return std::clamp((g_from + g_to - 2 * g_out) / contrast - 0.5, 0.0, 1.0);
-  };
-  // Inside `from`, outside `to`, and at least a slice spacing from `to`'s region. The
-  // height from the partial volume where the levels are known; else rising from
-  // `from`'s contour toward `to`'s: in proportion to the distances to the two contours
-  // where `to` has a region, else at 45 degrees up to the mid-plane (a dome top between
-  // slices).
-  auto add_caps = [&](SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) {
-    bool any = false;  // candidates first, by a disk test on the few changed pixels
-    for (int64_t j = 0; j < py && !any; ++j)
-      for (int64_t i = 0; i < px && !any; ++i) {
-        const int64_t p = i + px * j;
-        if (!from.mask[size_t(p)] || to.mask[size_t(p)]) continue;
-        bool near = false;
-        for (const auto& [di, dj] : disk) {
-          const int64_t a = i + di, b = j + dj;
-          if (a >= 0 && b >= 0 && a < px && b < py && to.mask[size_t(a + px * b)]) {
-            near = true;
-            break;
-          }
-        }
-        any = !near;
-      }
-    if (!any) return;
-    const auto& d_region = region_d2(to);
-    const auto& d_edge = outside_d2(from);
-    const double z_from = double(from.pk - 1);
-    for (int64_t j = 0; j < py; ++j)
-      for (int64_t i = 0; i < px; ++i) {
-        const int64_t p = i + px * j;
-        if (!from.mask[size_t(p)] || d_region[size_t(p)] < min_sq) continue;
-        const double d_from = std::max(std::sqrt(double(d_edge[size_t(p)])) - half_pixel, 0.0);
-        const double d_to = std::sqrt(double(d_region[size_t(p)])) - half_pixel;
-        double rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / sz) : d_from / (d_from + d_to);
-        const double pv = opt.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
-        if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
-        if (opt.caps_to_field_crossing) {
-          const double f_from = field[p + n * from.pk], f_to = field[p + n * to.pk];
-          if (f_from > 0 && f_to < -f_from) rise = std::min(rise, f_from / (f_from - f_to));
-        }
-        part.add(g.scaled(double(i), double(j), z_from + dir * rise), Eigen::Vector3d(0, 0, dir), true, k);
-      }
-  };
-  tbb::parallel_for(tbb::blocked_range<int64_t>(0, nz + 1, 8), [&](const tbb::blocked_range<int64_t>& r) {
-    SliceMaps lo, hi;
-    load(lo, r.begin());
-    for (int64_t pk = r.begin(); pk != r.end(); ++pk) {
-      load(hi, pk + 1);
-      add_caps(lo, hi, 1.0, caps[size_t(pk)], int32_t(pk - 1));   // the region ends going up: faces +z
-      add_caps(hi, lo, -1.0, caps[size_t(pk)], int32_t(pk - 1));  // the region starts going up: faces -z
-      std::swap(lo, hi);
-    }
-  });
-  return caps;
+  }
+  double partial_volume_rise(const SliceMaps& from, const SliceMaps& to, int64_t i, int64_t j) const;
+  bool any_cap(const SliceMaps& from, const SliceMaps& to) const;
+  void add_caps(SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) const;
+
+  const SliceStack& g_;
+  const PointOptions& opt_;
+  const double min_sq_, half_pixel_;
+  std::vector<std::pair<int64_t, int64_t>> disk_;
+};
+
+// The height from the partial volume, in slices from `from`'s plane toward `to`'s: the
+// slab of `from` spans [-1/2, 1/2] and `to`'s [1/2, 3/2]; the column is inside from below
+// -1/2 up to the surface, so the grey of the two slabs says how far: the inside
+// fractions' sum is (g_from + g_to - 2 g_out) / (g_in - g_out). The levels are local: g_in
+// from the slice behind `from`, g_out from the one beyond `to`. Exact for a plane over the
+// pixel when the slices are as thick as their spacing; the ruled surface between the
+// contours lies inside every convex dome by its sagitta (0.3-1 mm on a 12 mm cap in
+// 2.5 mm slices). -1 (not known, the ruled height stays) unless the column is what that
+// reading assumes: the pixel and its neighbours inside `from` and outside `to`; one level
+// for two slabs behind `from` and one beyond `to` (not a plate or gap thinner than that,
+// nor bright cortex over dim marrow); the two slabs between those levels; and not both
+// whole (a mask has no partial volume).
+double CapBuilder::partial_volume_rise(const SliceMaps& from, const SliceMaps& to, int64_t i, int64_t j) const {
+  const int64_t step = to.pk - from.pk, behind = from.pk - step, beyond = to.pk + step;
+  if (!real_slice(behind) || !real_slice(behind - step) || !real_slice(beyond)) return -1.0;
+  const auto [ids, n_ids] = box(i, j);
+  for (size_t k = 0; k < n_ids; ++k)
+    if (!from.mask[size_t(ids[k])] || to.mask[size_t(ids[k])]) return -1.0;
+  const double g_from = box_mean(from.pk, i, j), g_to = box_mean(to.pk, i, j);
+  const double g_in = level_mean(behind, i, j), g_out = level_mean(beyond, i, j);
+  const double contrast = g_in - g_out, slack = kLevelSlack * contrast;
+  if (!(g_in > 0 && g_out < 0)) return -1.0;
+  // One level behind (two slabs alike), one beyond, and the two slabs between them.
+  if (std::abs(box_mean(behind - step, i, j) - g_in) > slack) return -1.0;
+  if (real_slice(beyond + step) && std::abs(box_mean(beyond + step, i, j) - g_out) > slack) return -1.0;
+  if (g_from > g_in + slack || g_to < g_out - slack) return -1.0;
+  // Both slabs whole (a mask, or a surface on the slabs' boundary): the grey adds nothing.
+  if (g_from > g_in - kLevelSlack * slack && g_to < g_out + kLevelSlack * slack) return -1.0;
+  return std::clamp((g_from + g_to - 2 * g_out) / contrast - 0.5, 0.0, 1.0);
 }
+
+// Whether any pixel inside `from` and outside `to` lies a slice spacing or more from
+// `to`'s region (a disk test on the few changed pixels, before any distance transform).
+bool CapBuilder::any_cap(const SliceMaps& from, const SliceMaps& to) const {
+  for (int64_t j = 0; j < g_.py; ++j)
+    for (int64_t i = 0; i < g_.px; ++i) {
+      const int64_t p = i + g_.px * j;
+      if (!from.mask[size_t(p)] || to.mask[size_t(p)]) continue;
+      bool near = false;
+      for (const auto& [di, dj] : disk_) {
+        const int64_t a = i + di, b = j + dj;
+        if (a >= 0 && b >= 0 && a < g_.px && b < g_.py && to.mask[size_t(a + g_.px * b)]) {
+          near = true;
+          break;
+        }
+      }
+      if (!near) return true;
+    }
+  return false;
+}
+
+// Inside `from`, outside `to`, and at least a slice spacing from `to`'s region. The height
+// from the partial volume where the levels are known; else rising from `from`'s contour
+// toward `to`'s: in proportion to the distances to the two contours where `to` has a
+// region, else at 45 degrees up to the mid-plane (a dome top between slices).
+void CapBuilder::add_caps(SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) const {
+  if (!any_cap(from, to)) return;
+  const auto& d_region = region_d2(to);
+  const auto& d_edge = outside_d2(from);
+  const double z_from = double(from.pk - 1);
+  for (int64_t j = 0; j < g_.py; ++j)
+    for (int64_t i = 0; i < g_.px; ++i) {
+      const int64_t p = i + g_.px * j;
+      if (!from.mask[size_t(p)] || d_region[size_t(p)] < min_sq_) continue;
+      const double d_from = std::max(std::sqrt(double(d_edge[size_t(p)])) - half_pixel_, 0.0);
+      const double d_to = std::sqrt(double(d_region[size_t(p)])) - half_pixel_;
+      double rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / g_.sz) : d_from / (d_from + d_to);
+      const double pv = opt_.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
+      if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
+      if (opt_.caps_to_field_crossing) {
+        const double f_from = g_.field[p + g_.n * from.pk], f_to = g_.field[p + g_.n * to.pk];
+        if (f_from > 0 && f_to < -f_from) rise = std::min(rise, f_from / (f_from - f_to));
+      }
+      part.add(g_.scaled(double(i), double(j), z_from + dir * rise), Eigen::Vector3d(0, 0, dir), true, k);
+    }
+}
+
+std::vector<Part> cap_points(const SliceStack& g, const PointOptions& opt) { return CapBuilder(g, opt).build(); }
 
 // PCA normals, oriented by the reference, within `radius`; degenerate ones flagged.
 std::vector<Eigen::Vector3d> pca_normals(const std::vector<Eigen::Vector3d>& pos,

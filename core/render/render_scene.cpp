@@ -135,34 +135,13 @@ Eigen::Vector2d RenderScene::pixel_of(const Eigen::Vector3d& p) const {
   return {(c.x() + 1) / 2 * (width / supersample), (c.y() + 1) / 2 * (height / supersample)};
 }
 
-RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
-  if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to render");
-  MPUMESH_ASSERT(opt.supersample >= 1 && opt.width > 0 && opt.height > 0, "render size");
-  RenderScene sc;
-  sc.supersample = opt.supersample;
-  sc.width = opt.width * opt.supersample;
-  sc.height = opt.height * opt.supersample;
-  sc.title = opt.title;
+namespace {
 
-  // Per-vertex normals and curvature: the mesh's own, or estimated.
-  TriangleMesh est;
-  const bool have_normals = mesh.normals.size() == mesh.vertices.size();
-  const bool have_curv = mesh.curvature.size() == mesh.vertices.size();
-  const bool need_estimate = !have_normals || (opt.color == ColorBy::kCurvature && !have_curv);
-  if (need_estimate) {
-    est.vertices = mesh.vertices;
-    est.triangles = mesh.triangles;
-    estimate_mesh_curvature(est);
-  }
-  const auto& normals = have_normals ? mesh.normals : est.normals;
-  // K at the mesh's own scale (surface_attributes.h): the bends its spacing follows.
-  std::vector<double> gauss;
-  if (opt.color == ColorBy::kCurvature) gauss = gauss_at_mesh_scale(have_curv ? mesh : est);
-
-  // Values per corner and the colour range.
+// The value at each triangle's corners that colours it, and the colour bar's range.
+std::vector<float> corner_values(const TriangleMesh& mesh, const RenderOptions& opt, const std::vector<double>& gauss,
+                                 bool mesh_curvature, Legend& lg) {
   std::vector<float> corner(mesh.triangles.size() * 3, 0.0f);
   std::vector<double> sample;
-  Legend& lg = sc.legend;
   for (size_t f = 0; f < mesh.triangles.size(); ++f) {
     const auto& t = mesh.triangles[f];
     const Eigen::Vector3d p[3] = {mesh.vertices[t[0]], mesh.vertices[t[1]], mesh.vertices[t[2]]};
@@ -180,7 +159,8 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
   if (opt.color == ColorBy::kCurvature) {
     for (double k : gauss) sample.push_back(std::abs(k));
     const double q = std::max(percentile(sample, 0.95), 1e-9);
-    lg = {true, std::string("Gaussian curvature K (1/mm^2) at the spacing") + (have_curv ? "" : ", estimated from the mesh"),
+    lg = {true,
+          std::string("Gaussian curvature K (1/mm^2) at the spacing") + (mesh_curvature ? "" : ", estimated from the mesh"),
           -q, q, RENDER_CMAP_DIVERGING};
   } else if (opt.color == ColorBy::kMinAngle) {
     lg = {true, "smallest angle of each triangle (degrees)", 0, 60, RENDER_CMAP_SEQUENTIAL};
@@ -190,8 +170,14 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
     lg = {true, "mean edge length of each triangle (mm)", lo, hi, RENDER_CMAP_SEQUENTIAL};
   }
   if (opt.range && lg.shown) lg.lo = opt.range->first, lg.hi = opt.range->second;
+  return corner;
+}
 
-  // Camera: E toward the viewer, R to the right, U up in the picture.
+// The camera: E toward the viewer, R to the right, U up in the picture; the mesh's extent
+// across the picture (a, b) and along the view (s); the picture's layout, titles on top
+// and the colour bar on the right; and from them the clip transform and the push constants.
+void place_camera(const TriangleMesh& mesh, const RenderOptions& opt, RenderScene& sc) {
+  Legend& lg = sc.legend;
   const Eigen::Vector3d E = opt.view.normalized();
   const Eigen::Vector3d up0 = std::abs(E.z()) > 0.99 ? Eigen::Vector3d(0, -1, 0) : Eigen::Vector3d(0, 0, 1);
   const Eigen::Vector3d R = up0.cross(E).normalized(), U = E.cross(R);
@@ -208,8 +194,6 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
   if (opt.zoom) amin = bmin = -opt.zoom->second, amax = bmax = opt.zoom->second;
   const double pad = 0.01 * std::max(smax - smin, 1e-6);
   smin -= pad, smax += pad;
-
-  // Pixel layout of the final image: titles on top, the colour bar on the right.
   const int W = opt.width, H = opt.height;
   const int lines = int(!opt.title.empty()) + int(lg.shown);
   const int top = lines * kLineHeight + (lines ? 8 : 0);
@@ -233,7 +217,34 @@ RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
   sc.push.light = {float(L.x()), float(L.y()), float(L.z()), opt.wireframe ? 1.0f : 0.0f};
   sc.push.eye = {float(E.x()), float(E.y()), float(E.z()), 0.55f * float(opt.supersample)};
   sc.push.range = {float(lg.lo), float(lg.hi), float(lg.colormap), 0.0f};
+}
 
+}  // namespace
+
+RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
+  if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to render");
+  MPUMESH_ASSERT(opt.supersample >= 1 && opt.width > 0 && opt.height > 0, "render size");
+  RenderScene sc;
+  sc.supersample = opt.supersample;
+  sc.width = opt.width * opt.supersample;
+  sc.height = opt.height * opt.supersample;
+  sc.title = opt.title;
+  // Per-vertex normals and curvature: the mesh's own, or estimated.
+  TriangleMesh est;
+  const bool have_normals = mesh.normals.size() == mesh.vertices.size();
+  const bool have_curv = mesh.curvature.size() == mesh.vertices.size();
+  const bool need_estimate = !have_normals || (opt.color == ColorBy::kCurvature && !have_curv);
+  if (need_estimate) {
+    est.vertices = mesh.vertices;
+    est.triangles = mesh.triangles;
+    estimate_mesh_curvature(est);
+  }
+  const auto& normals = have_normals ? mesh.normals : est.normals;
+  // K at the mesh's own scale (surface_attributes.h): the bends its spacing follows.
+  std::vector<double> gauss;
+  if (opt.color == ColorBy::kCurvature) gauss = gauss_at_mesh_scale(have_curv ? mesh : est);
+  const std::vector<float> corner = corner_values(mesh, opt, gauss, have_curv, sc.legend);
+  place_camera(mesh, opt, sc);
   sc.vertices.resize(mesh.triangles.size() * 3);
   for (size_t f = 0; f < mesh.triangles.size(); ++f)
     for (int c = 0; c < 3; ++c) {

@@ -126,30 +126,43 @@ std::vector<double> ParticleKernel::thickness(const MpuDeviceSurface& s, const s
   return t;
 }
 
-void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
-                         int iterations, std::map<std::string, double>& kernel_ms) {
+namespace {
+
+// The particles' positions (relative to the surface's origin, σ in w) and normals (the
+// distance to f = 0 in w), as the shaders read them.
+void pack_state(const MpuDeviceSurface& s, const particles::ParticleState& st, std::vector<abi::vec4>& pos,
+                std::vector<abi::vec4>& nrm) {
   const size_t n = st.size();
-  if (n == 0 || iterations <= 0) return;
-  // The neighbour grid for the whole batch: cells of the largest interaction range, over
-  // the particles' box grown by the farthest they can move (clamped cells beyond it still
-  // find their neighbours in the 27 around).
+  pos.resize(n);
+  nrm.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = st.x[i] - s.origin;
+    pos[i] = {float(x.x()), float(x.y()), float(x.z()), float(st.sigma[i])};
+    nrm[i] = {float(st.normal[i].x()), float(st.normal[i].y()), float(st.normal[i].z()), float(st.distance[i])};
+  }
+}
+
+// The push constants of a batch: the step's parameters, and the neighbour grid for the
+// whole batch: cells of the largest interaction range, over the particles' box grown by
+// the farthest they can move (clamped cells beyond it still find their neighbours in the
+// 27 around). Returns the grid's cell count.
+uint32_t batch_push(const MpuDeviceSurface& s, const particles::ParticleState& st, const particles::StepParams& p,
+                    int iterations, abi::ParticlePush& push) {
+  const size_t n = st.size();
   const double range = p.cutoff * std::min(p.sigma_cap, 1e6);
   double smax = 0;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  std::vector<abi::vec4> pos(n), nrm(n);
   for (size_t i = 0; i < n; ++i) {
     const Eigen::Vector3d x = st.x[i] - s.origin;
     lo = lo.cwiseMin(x);
     hi = hi.cwiseMax(x);
     smax = std::max(smax, st.sigma[i]);
-    pos[i] = {float(x.x()), float(x.y()), float(x.z()), float(st.sigma[i])};
-    nrm[i] = {float(st.normal[i].x()), float(st.normal[i].y()), float(st.normal[i].z()), float(st.distance[i])};
   }
   const double cell = std::max({range, p.cutoff * smax, (hi - lo).maxCoeff() / 1023.0, 1e-6});
   const double margin = iterations * p.max_move * std::max(smax, std::min(p.sigma_cap, 1e6));
   lo.array() -= margin;
   hi.array() += margin;
-  abi::ParticlePush push = surface_push(s, n);
+  push = surface_push(s, n);
   push.grid_x = float(lo.x());
   push.grid_y = float(lo.y());
   push.grid_z = float(lo.z());
@@ -170,15 +183,41 @@ void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st
   push.sigma_change = float(p.sigma_change);
   push.sigma_cap = float(std::min(p.sigma_cap, 1e30));
   push.newton_steps = uint32_t(p.newton_steps);
-  const uint32_t cells = dims[0] * dims[1] * dims[2];
+  return dims[0] * dims[1] * dims[2];
+}
 
+// The state read back (positions, normals, curvature, then energy and speed), into st.
+void unpack_state(const MpuDeviceSurface& s, const abi::vec4* back, particles::ParticleState& st) {
+  const size_t n = st.size();
+  const abi::vec4 *pos = back, *nrm = back + n, *curv = back + 2 * n, *stats = back + 3 * n;
+  for (size_t i = 0; i < n; ++i) {
+    st.x[i] = Eigen::Vector3d(pos[i].x, pos[i].y, pos[i].z) + s.origin;
+    st.sigma[i] = pos[i].w;
+    st.normal[i] = Eigen::Vector3d(nrm[i].x, nrm[i].y, nrm[i].z);
+    st.distance[i] = nrm[i].w;
+    st.curv[i] = {curv[i].x, curv[i].y, curv[i].z, curv[i].w};
+    st.energy[i] = stats[i].x;
+    st.speed[i] = stats[i].y;
+  }
+}
+
+}  // namespace
+
+void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st, const particles::StepParams& p,
+                         int iterations, std::map<std::string, double>& kernel_ms) {
+  const size_t n = st.size();
+  if (n == 0 || iterations <= 0) return;
+  std::vector<abi::vec4> pos, nrm;
+  pack_state(s, st, pos, nrm);
+  abi::ParticlePush push;
+  const uint32_t cells = batch_push(s, st, p, iterations, push);
   const VkDeviceSize v4 = n * sizeof(abi::vec4), u1 = n * sizeof(uint32_t);
   Buffer b_pos(ctx_, v4, kStorage), b_new(ctx_, v4, kStorage), b_nrm(ctx_, v4, kStorage), b_curv(ctx_, v4, kStorage),
       b_stats(ctx_, v4, kStorage), b_cell(ctx_, u1, kStorage), b_rank(ctx_, u1, kStorage),
       b_start(ctx_, (cells + 1) * sizeof(uint32_t), kStorage), b_order(ctx_, u1, kStorage);
   // One submission per batch: the state goes up through one staging buffer at the start
-  // of the command buffer and comes back through another at its end (seven submissions,
-  // each waited for, took 10 of the 26 ms per batch on the H100).
+  // of the command buffer and comes back through another at its end (a submission per
+  // kernel, each waited for, costs a large share of a batch's time on a GPU).
   Buffer up(ctx_, 2 * v4, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, Buffer::Kind::kStaging);
   Buffer down(ctx_, 4 * v4, VK_BUFFER_USAGE_TRANSFER_DST_BIT, Buffer::Kind::kStaging);
   std::memcpy(up.mapped(), pos.data(), v4);
@@ -213,19 +252,7 @@ void ParticleKernel::run(const MpuDeviceSurface& s, particles::ParticleState& st
   rec.copy(b_curv, down, v4, 0, 2 * v4);
   rec.copy(b_stats, down, v4, 0, 3 * v4);
   rec.submit_and_wait(kernel_ms);
-  const auto* back = static_cast<const abi::vec4*>(down.mapped());
-  std::copy(back, back + n, pos.begin());
-  std::copy(back + n, back + 2 * n, nrm.begin());
-  const abi::vec4 *curv = back + 2 * n, *stats = back + 3 * n;
-  for (size_t i = 0; i < n; ++i) {
-    st.x[i] = Eigen::Vector3d(pos[i].x, pos[i].y, pos[i].z) + s.origin;
-    st.sigma[i] = pos[i].w;
-    st.normal[i] = Eigen::Vector3d(nrm[i].x, nrm[i].y, nrm[i].z);
-    st.distance[i] = nrm[i].w;
-    st.curv[i] = {curv[i].x, curv[i].y, curv[i].z, curv[i].w};
-    st.energy[i] = stats[i].x;
-    st.speed[i] = stats[i].y;
-  }
+  unpack_state(s, static_cast<const abi::vec4*>(down.mapped()), st);
 }
 
 }  // namespace mpumesh::vk

@@ -67,6 +67,33 @@ class StageTimes : public pipeline::Observer {
   std::map<std::string, double> seconds_;
 };
 
+// Rounds 2 to `rounds` of ours and Mesh_3 in turn (the first is done); the medians.
+template <class RunOurs>
+std::pair<double, double> rounds_in_turn(int rounds, const TriangleMesh& ours, RunOurs&& run_ours, const Volume& vol,
+                                         const bench::Mesh3Params& m3, std::vector<double>& ours_s,
+                                         std::vector<double>& mesh3_s, size_t first_triangles) {
+  std::vector<size_t> mesh3_triangles = {first_triangles};
+  for (int k = 1; k < rounds; ++k) {
+    StageTimes unused;
+    const pipeline::RunResult again = run_ours(unused, ours_s[size_t(k)]);
+    if (again.mesh.triangles != ours.triangles) std::printf("warning: round %d made another mesh of ours\n", k + 1);
+    const bench::Mesh3Result cg_again = bench::cgal_mesh3(vol, m3);
+    mesh3_s[size_t(k)] = cg_again.seconds;
+    mesh3_triangles.push_back(cg_again.mesh.triangles.size());
+  }
+  const double t_ours = median(ours_s), t_mesh3 = median(mesh3_s);
+  if (rounds > 1) {
+    // (Mesh_3's initial points are random: its triangles differ a little between rounds.)
+    std::printf("%d rounds, in turn (Mesh_3's triangles in brackets):\n", rounds);
+    for (int k = 0; k < rounds; ++k)
+      std::printf("  ours %.2f s, Mesh_3 %.2f s [%zu]: %.2f\n", ours_s[size_t(k)], mesh3_s[size_t(k)],
+                  mesh3_triangles[size_t(k)], ours_s[size_t(k)] / mesh3_s[size_t(k)]);
+    std::printf("medians: ours %.2f s, CGAL Mesh_3 %.2f s (the table's times; its figures are the first round's)\n",
+                t_ours, t_mesh3);
+  }
+  return {t_ours, t_mesh3};
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -140,25 +167,8 @@ int main(int argc, char** argv) {
   std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g, %lld initial points, %.2f s\n",
               m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg.initial_points, cg.seconds);
   mesh3_s[0] = cg.seconds;
-  std::vector<size_t> mesh3_triangles = {cg.mesh.triangles.size()};
-  for (int k = 1; k < rounds; ++k) {
-    StageTimes unused;
-    const pipeline::RunResult again = run_ours(unused, ours_s[size_t(k)]);
-    if (again.mesh.triangles != ours.triangles) std::printf("warning: round %d made another mesh of ours\n", k + 1);
-    const bench::Mesh3Result cg_again = bench::cgal_mesh3(vol, m3);
-    mesh3_s[size_t(k)] = cg_again.seconds;
-    mesh3_triangles.push_back(cg_again.mesh.triangles.size());
-  }
-  const double t_ours = median(ours_s), t_mesh3 = median(mesh3_s);
-  if (rounds > 1) {
-    // (Mesh_3's initial points are random: its triangles differ a little between rounds.)
-    std::printf("%d rounds, in turn (Mesh_3's triangles in brackets):\n", rounds);
-    for (int k = 0; k < rounds; ++k)
-      std::printf("  ours %.2f s, Mesh_3 %.2f s [%zu]: %.2f\n", ours_s[size_t(k)], mesh3_s[size_t(k)],
-                  mesh3_triangles[size_t(k)], ours_s[size_t(k)] / mesh3_s[size_t(k)]);
-    std::printf("medians: ours %.2f s, CGAL Mesh_3 %.2f s (the table's times; its figures are the first round's)\n",
-                t_ours, t_mesh3);
-  }
+  const auto [t_ours, t_mesh3] = rounds_in_turn(rounds, ours, run_ours, vol, m3, ours_s, mesh3_s,
+                                                cg.mesh.triangles.size());
 
   std::vector<bench::Row> rows(4);
   rows[0] = {"ours (" + choice.backend->kind() + ")", &ours, t_ours};
