@@ -6,6 +6,8 @@
 #include <map>
 #include <random>
 
+#include "cpu/cpu_backend.h"
+#include "mpu/mpu_fit.h"
 #include "phantom/ct_phantom.h"
 #include "vk/vk_check.h"
 
@@ -303,6 +305,62 @@ std::string temp_dir(const std::string& name) {
   std::filesystem::remove_all(p);
   std::filesystem::create_directories(p);
   return p.string();
+}
+
+Eigen::Vector3d fibonacci_direction(int k, int n) {
+  const double z = 1 - (2 * k + 1.0) / n, r = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
+  return {r * std::cos(phi), r * std::sin(phi), z};
+}
+
+ShapeRun run_shape(const AnalyticShape& shape, int64_t count, bool dense) {
+  ShapeRun r;
+  r.cloud = sample_shape(shape, 0.5, dense ? 0.5 : 2.0, dense);
+  r.surface = mpu::fit_mpu(r.cloud, {});
+  particles::SampleOptions o;
+  o.particles = count;
+  CpuBackend cpu;
+  r.st = particles::sample_surface(r.surface, r.cloud.positions, o, cpu, &r.stats);
+  std::vector<double> absk;
+  for (size_t i = 0; i < r.st.size(); ++i) {
+    double K;
+    r.max_true_distance = std::max(r.max_true_distance, shape.distance(r.st.x[i], nullptr, &K));
+    absk.push_back(std::abs(K));
+  }
+  r.spacing = particles::spacing_stats(particles::local_spacing(r.st.x), absk);
+  return r;
+}
+
+void print_run(const char* name, const ShapeRun& r) {
+  std::printf("%s: %lld particles (seeds %lld, pool %lld, births %lld, deaths %lld), %d iterations, converged %d, "
+              "h %.3f mm, area %.0f mm2, thickness-bound %lld; spacing mean %.3f cv %.3f, high/low-K %.3f, rank %.3f; "
+              "max distance %.2e mm; %.2f s seed, %.2f s iterate, %.2f s population\n",
+              name, (long long)r.stats.particles, (long long)r.stats.seeds, (long long)r.stats.pool,
+              (long long)r.stats.births, (long long)r.stats.deaths, r.stats.iterations, int(r.stats.converged),
+              r.stats.spacing, r.stats.area, (long long)r.stats.thickness_bound, r.spacing.mean, r.spacing.cv,
+              r.spacing.ratio, r.spacing.rank_correlation, r.max_true_distance, r.stats.seconds_seed,
+              r.stats.seconds_iterate, r.stats.seconds_population);
+  for (const auto& h : r.stats.history)
+    std::printf("  it %d: %lld (+%lld -%lld) E %.2f move %.4f\n", h.iteration, (long long)h.count, (long long)h.births,
+                (long long)h.deaths, h.mean_energy, h.mean_move);
+}
+
+void expect_boundary_within_one_pixel(const ShellPhantom& ph, const Volume& vol, const seg::Segmentation& s,
+                                      const char* what) {
+  int64_t wrong = 0, far = 0;
+  double worst = 0;
+  for (int64_t k = 0; k < vol.dims[2]; ++k)
+    for (int64_t j = 0; j < vol.dims[1]; ++j)
+      for (int64_t i = 0; i < vol.dims[0]; ++i) {
+        const Eigen::Vector3d p = vol.index_to_physical(Eigen::Vector3d(double(i), double(j), double(k)));
+        if (s.inside(i + 1, j + 1, k + 1) == ph.inside(p)) continue;
+        ++wrong;
+        const double d = ph.distance(p);
+        worst = std::max(worst, d);
+        if (d > vol.spacing.x()) ++far;
+      }
+  EXPECT_EQ(far, 0) << what << ": " << wrong << " pixels mislabelled, farthest " << worst << " mm from the surface";
+  std::printf("[ %s ] %lld mislabelled pixels, farthest %.3f mm (pixel %.2f mm)\n", what, (long long)wrong, worst,
+              vol.spacing.x());
 }
 
 }  // namespace mpumesh::test

@@ -10,6 +10,10 @@
 
 #include "geometry/triangle_mesh.h"
 #include "geometry/point_cloud.h"
+#include "mpu/mpu_surface.h"
+#include "particles/particle_system.h"
+#include "particles/spacing_stats.h"
+#include "segment/segmentation.h"
 #include "volume/volume.h"
 #include "vulkan_backend.h"
 
@@ -47,6 +51,11 @@ struct ShellPhantom {
   // 1 inside the outer surface, 0 outside (no partial volume).
   bool inside(const Eigen::Vector3d& p) const;
 };
+
+// Every pixel the segmentation labels differently from the phantom's truth lies within
+// one in-plane pixel of its true surface (printed with `what`).
+void expect_boundary_within_one_pixel(const ShellPhantom& ph, const Volume& vol, const seg::Segmentation& s,
+                                      const char* what);
 
 // Analytic closed surfaces with known distance, normal and Gaussian curvature: a sphere
 // (radius a), an ellipsoid (semi-axes a, b, c) and a torus (major a, minor b) around the
@@ -86,6 +95,24 @@ struct LabelPhantom {
   double core_radius = 4, nest_radius = 8.5;
   Volume volume() const;
 };
+
+// The k-th of n nearly even directions on the unit sphere (a Fibonacci spiral).
+Eigen::Vector3d fibonacci_direction(int k, int n);
+
+// Particles on an analytic shape: its points (sample_shape, dense or a slice stack at 2
+// mm), their fit, the particles asked for `count` on the CPU, their spacing against the
+// true |K|, and their largest distance from the true surface.
+struct ShapeRun {
+  mpu::MpuSurface surface;
+  PointCloud cloud;
+  particles::ParticleState st;
+  particles::SampleStats stats;
+  particles::SpacingStats spacing;
+  double max_true_distance = 0;
+};
+ShapeRun run_shape(const AnalyticShape& shape, int64_t count, bool dense = true);
+// Its figures on one line, and the population's history.
+void print_run(const char* name, const ShapeRun& r);
 
 // Random binary volume (values +-100), fixed seed.
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed);

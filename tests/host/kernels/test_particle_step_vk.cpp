@@ -16,6 +16,8 @@
 #include "mpu/mpu_eval_ref.h"
 #include "particles/particle_system.h"
 #include "particles/spacing_stats.h"
+#include "backends.h"
+#include "error_stats.h"
 #include "test_support.h"
 
 namespace mpumesh {
@@ -86,22 +88,22 @@ TEST(ParticlesVk, OneStepMatchesTheReference) {
   cpu.particle_iterations(f.surface, a, p, 1);
   gpu->particle_iterations(f.surface, b, p, 1);
   test::expect_no_validation_messages(*gpu);
-  double dx = 0, dsigma = 0, denergy = 0, dnormal = 0, dgauss = 0;
+  test::ErrorStats dx, dsigma, denergy, dnormal, dgauss;  // dx in sigmas, dE in E^
   for (size_t i = 0; i < a.size(); ++i) {
-    dx = std::max(dx, (a.x[i] - b.x[i]).norm() / a.sigma[i]);
-    dsigma = std::max(dsigma, std::abs(a.sigma[i] - b.sigma[i]) / a.sigma[i]);
-    denergy = std::max(denergy, std::abs(a.energy[i] - b.energy[i]) / o.step.desired_energy);
-    dnormal = std::max(dnormal, (a.normal[i] - b.normal[i]).norm());
-    const double K = std::abs(a.curv[i].gauss);
-    if (K > 1e-4) dgauss = std::max(dgauss, std::abs(a.curv[i].gauss - b.curv[i].gauss) / K);
+    dx.add_error((a.x[i] - b.x[i]).norm() / a.sigma[i]);
+    dsigma.add(b.sigma[i], a.sigma[i], 0);
+    denergy.add_error(std::abs(a.energy[i] - b.energy[i]) / o.step.desired_energy);
+    dnormal.add_error((a.normal[i] - b.normal[i]).norm());
+    dgauss.add(b.curv[i].gauss, a.curv[i].gauss, 1e-4);
   }
-  std::printf("one step, %zu particles: max |dx|/sigma %.2e, |dsigma|/sigma %.2e, |dE|/E^ %.2e, |dn| %.2e, "
-              "|dK|/|K| %.2e\n", a.size(), dx, dsigma, denergy, dnormal, dgauss);
-  EXPECT_LT(dx, 1e-4);
-  EXPECT_LT(dsigma, 1e-4);
-  EXPECT_LT(denergy, 1e-4);
-  EXPECT_LT(dnormal, 1e-4);
-  EXPECT_LT(dgauss, 1e-3);
+  std::printf("one step, %zu particles: %s; %s; %s; %s; %s\n", a.size(), dx.line("x / sigma").c_str(),
+              dsigma.line("sigma").c_str(), denergy.line("E / E^").c_str(), dnormal.line("normal").c_str(),
+              dgauss.line("K").c_str());
+  EXPECT_LT(dx.max_abs, 1e-4);
+  EXPECT_LT(dsigma.max_rel, 1e-4);
+  EXPECT_LT(denergy.max_abs, 1e-4);
+  EXPECT_LT(dnormal.max_abs, 1e-4);
+  EXPECT_LT(dgauss.max_rel, 1e-3);
   // The population step decides from either state alike.
   const auto fa = particles::decide_population(a, o, 10, 1 << 20), fb = particles::decide_population(b, o, 10, 1 << 20);
   int64_t changes = 0, differ = 0;
@@ -131,22 +133,23 @@ TEST(ParticlesVk, ProjectionMatchesTheReference) {
   cpu.particle_project(f.surface, a, p, true);
   gpu->particle_project(f.surface, b, p, true);
   test::expect_no_validation_messages(*gpu);
-  double dx = 0, dd = 0, dn = 0, dK = 0, truth = 0;
+  test::ErrorStats dx, dd, dn, dK;
+  double truth = 0;
   for (size_t i = 0; i < a.size(); ++i) {
-    dx = std::max(dx, (a.x[i] - b.x[i]).norm());
-    dd = std::max(dd, std::abs(a.distance[i] - b.distance[i]));
-    dn = std::max(dn, (a.normal[i] - b.normal[i]).norm());
-    const double K = std::abs(a.curv[i].gauss);
-    if (K > 1e-4) dK = std::max(dK, std::abs(a.curv[i].gauss - b.curv[i].gauss) / K);
+    dx.add_error((a.x[i] - b.x[i]).norm());
+    dd.add(b.distance[i], a.distance[i]);
+    dn.add_error((a.normal[i] - b.normal[i]).norm());
+    dK.add(b.curv[i].gauss, a.curv[i].gauss, 1e-4);
     truth = std::max(truth, std::abs(f.shape.distance(a.x[i])));
   }
-  std::printf("projection, %zu points: max |dx| %.2e mm, |d distance| %.2e mm, |dn| %.2e, |dK|/|K| %.2e; "
-              "CPU result within %.2e mm of the true surface\n", a.size(), dx, dd, dn, dK, truth);
+  std::printf("projection, %zu points: %s mm; %s mm; %s; %s; CPU result within %.2e mm of the true surface\n",
+              a.size(), dx.line("x").c_str(), dd.line("distance").c_str(), dn.line("normal").c_str(),
+              dK.line("K").c_str(), truth);
   EXPECT_LT(truth, 0.01);
-  EXPECT_LT(dx, 1e-3);
-  EXPECT_LT(dd, 1e-3);
-  EXPECT_LT(dn, 1e-4);
-  EXPECT_LT(dK, 1e-3);
+  EXPECT_LT(dx.max_abs, 1e-3);
+  EXPECT_LT(dd.max_abs, 1e-3);
+  EXPECT_LT(dn.max_abs, 1e-4);
+  EXPECT_LT(dK.max_rel, 1e-3);
 }
 
 // The local thickness (particle_step_thickness.comp against local_thickness) across a spherical
@@ -232,6 +235,30 @@ TEST(ParticlesVk, WholeRunMatchesTheReference) {
   EXPECT_EQ(tb.components, ta.components);
   EXPECT_NEAR(double(mb.triangles.size()) / double(ma.triangles.size()), 1.0, 0.001);
 }
+
+// One body on both backends against the truth: particles on a fitted sphere lie on the
+// true surface, as many as asked (within 10%), evenly spaced (cv under 0.15).
+class ParticleBackends : public test::BackendTest {};
+
+TEST_P(ParticleBackends, SpreadEvenlyOverTheFittedSphere) {
+  MPUMESH_BACKEND_OR_SKIP(backend);
+  const test::AnalyticShape sphere{test::AnalyticShape::kSphere, 20, 20, 20};
+  const PointCloud cloud = test::sample_shape(sphere, 0.5, 0.5, true);
+  const mpu::MpuSurface s = mpu::fit_mpu(cloud, {});
+  particles::SampleOptions o;
+  o.particles = 3000;
+  const ParticleState st = particles::sample_surface(s, cloud.positions, o, backend);
+  test::ErrorStats off;
+  for (const auto& x : st.x) off.add_error(sphere.distance(x));
+  const std::vector<double> spacing = particles::local_spacing(st.x);
+  const particles::SpacingStats k = particles::spacing_stats(spacing, std::vector<double>(spacing.size(), 1.0));
+  std::printf("[ %s ] %zu particles, spacing mean %.3f mm cv %.3f; %s mm\n", GetParam().c_str(), st.size(), k.mean,
+              k.cv, off.line("off the sphere").c_str());
+  EXPECT_NEAR(double(st.size()), 3000, 300);
+  EXPECT_LT(k.cv, 0.15);
+  EXPECT_LT(off.max_abs, 0.01);
+}
+MPUMESH_INSTANTIATE_BACKENDS(ParticleBackends);
 
 }  // namespace
 }  // namespace mpumesh
