@@ -30,14 +30,13 @@ uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles, b
 
 // Memory for a whole run, set once at the start of a program that runs the pipeline
 // (mpumesh, the whole-run benchmarks). A run allocates and frees its stages' large
-// buffers over and over, and each fresh page costs a fault and the kernel's zeroing: on
-// the sample CT at 45,000 particles, 90,000 faults. So, with glibc, freed memory stays in
-// the process for the next allocation (blocks up to 32 MiB come from the heap, not fresh
-// mappings, and the heap is not trimmed): 76,000 faults. Malloc does not ask for
-// transparent huge pages (glibc.malloc.hugetlb=1): with them a run took 17,000 faults but
-// 4.54-4.70 s against 4.18-4.43 s (seven runs each, in turn, 2-core virtual machine),
-// since a virtual machine that hands freed memory back to its host (free page reporting)
-// zeroes a fresh 2 MiB page at a quarter of the speed of 4 KiB ones.
+// buffers over and over, and each fresh page costs a fault and the kernel's zeroing. So,
+// with glibc, freed memory stays in the process for the next allocation (blocks up to
+// 32 MiB come from the heap, not fresh mappings, and the heap is not trimmed). Malloc
+// does not ask for transparent huge pages (glibc.malloc.hugetlb=1): they save faults, but
+// a virtual machine that hands freed memory back to its host (free page reporting)
+// zeroes a fresh 2 MiB page at a quarter of the speed of 4 KiB ones, and the run is
+// slower.
 void tune_memory();
 
 // Throws InputError naming `what` when the estimate exceeds the memory available.

@@ -45,8 +45,8 @@ std::vector<Component> components_of(const TriangleMesh& m) {
     k.volume += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6.0;
   }
   // Each cavity to the smallest shell that holds one of its vertices: the cavities in
-  // parallel (each ray test scans a shell's triangles: on the sample CT this took 0.04 s
-  // in turn), then listed with their shells in order.
+  // parallel (each ray test scans a shell's triangles), then listed with their shells in
+  // order.
   tbb::parallel_for(size_t(0), c.size(), [&](size_t k) {
     if (c[k].volume >= 0) return;
     const Eigen::Vector3d p = m.vertices[m.triangles[c[k].triangles[0]][0]];

@@ -27,9 +27,7 @@ std::optional<Eigen::Vector3d> opposite_sheet(const mpu::MpuSurface& s, const Ei
   // p must lie on f = 0 (|f| / |∇f| within 5% of the reach), and the search starts past
   // its own sheet (twice that distance, at least 0.1% of the reach): a particle left where
   // ∇f nearly vanishes (between two sheets) lies on no sheet, and from it the bisection
-  // went to p itself. On the sample CT fitted with ε0 = 0.2 mm, 81 such points were put
-  // 1e-13 to 1e-10 mm from their particles (|f| / |∇f| there up to 2 mm), and one of them
-  // made two 0° triangles.
+  // would go to p itself and put a point next to its particle (a 0° triangle).
   const double off = std::abs(e.f) / g.norm();
   if (!(off < 0.05 * reach)) return std::nullopt;
   const double a0 = std::max(1e-3 * reach, 2 * off);

@@ -27,7 +27,7 @@ double angle_at(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen:
 // Whether the angles at c and d facing the edge ab add up to less than pi by far more than
 // rounding, told from their cosines, without the arc tangents: α + β = π - δ makes
 // cos α + cos β = 2 sin(δ / 2) cos((α - β) / 2) <= δ, so a sum above 1e-6 means δ > 1e-6.
-// (On the sample CT most edges are; the arc tangents took 10% of the optimisation's CPU.)
+// (Most edges are, and the arc tangents would be a tenth of the optimisation's time.)
 bool clearly_delaunay(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                       const Eigen::Vector3d& d) {
   const Eigen::Vector3d ca = a - c, cb = b - c, da = a - d, db = b - d;

@@ -8,8 +8,8 @@ namespace mpumesh {
 
 int64_t orient_components(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& outward) {
   auto& tris = mesh.triangles;
-  // The faces of each vertex (compressed rows; an edge map of vectors took 0.1 s on the
-  // sample CT). The faces of edge ab are those of a that hold b.
+  // The faces of each vertex (compressed rows, cheaper than an edge map of vectors). The
+  // faces of edge ab are those of a that hold b.
   const VertexFaces star =
       vertex_faces(mesh.vertices.size(), tris.size(), [&](size_t f) -> const std::array<uint32_t, 3>& { return tris[f]; });
   const std::vector<uint32_t>& first = star.first;

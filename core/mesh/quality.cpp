@@ -73,7 +73,8 @@ double triangle_min_angle_deg(const Eigen::Vector3d& a, const Eigen::Vector3d& b
 }
 
 // The scans over every triangle (the clean-up's collapse and flip passes, the
-// optimisation's moves; the sample CT's 100,000) spent most of their time in atan2.
+// optimisation's moves) ask this of every triangle, and the arc tangents would cost them
+// most of their time.
 bool triangle_min_angle_below(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
                               double deg) {
   const Eigen::Vector3d ab = b - a, bc = c - b, ca = a - c;

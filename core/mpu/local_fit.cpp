@@ -375,10 +375,9 @@ Leaf fit_general_quadric(const Ball& ball, const PointCloud& cloud, const std::v
   const Local& l = to_local(ball, cloud, frame);
   const size_t n = l.u.size();
   // The normal equations (10 x 10, LDLT, which zeroes the components of vanishing pivots),
-  // summed row by row: rather than a column-pivoting QR of the whole (points + 9) x 10
-  // system (3.69 -> 3.31 s on the sample CT, whose 258,000 leaves are 163,000 general
-  // quadrics), and rather than building that system to multiply it out (Eigen's product
-  // of a dynamic matrix was 4% of the fit).
+  // summed row by row: cheaper than a column-pivoting QR of the whole (points + 9) x 10
+  // system, or than building that system to multiply it out, and general quadrics are
+  // most of a CT's leaves.
   double wsum = 0;
   for (double w : l.weight) wsum += w;
   Eigen::Matrix<double, 10, 10> AtA = Eigen::Matrix<double, 10, 10>::Zero();

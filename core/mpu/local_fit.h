@@ -11,7 +11,7 @@
 // - two sheets, for a ball that holds both faces of a plate (or gap) thinner than it: a
 //   quadric height field for each face, joined in one function that is zero on both
 //   (fit_two_sheets, below). A single general quadric can hold two parallel planes but
-//   not two curved sheets: on a 2.5 mm spherical shell its normals were 1.2° off with
+//   not two curved sheets: on a 2.5 mm spherical shell its normals are off by 1.2° with
 //   exact points and 4° with a CT's.
 #pragma once
 

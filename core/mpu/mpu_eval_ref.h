@@ -12,9 +12,8 @@
 //   Hb = Σ w_i ∇²Q_i / Σ w_i,
 // the "diffuse derivative" of moving least squares (Nayroles, Touzot & Villon 1992), which
 // converges to the surface's second derivatives as the fits do, without the blending's
-// wiggles. Measured (tests/core/test_mpu.cpp, K within p95 of the analytic value): sphere
-// 1.9 -> 2.4%, ellipsoid 3.4 -> 3.0%, torus 5.8 -> 3.6% dense; sphere 2.2 -> 2.3%,
-// ellipsoid 11.3 -> 6.2%, torus 5.5 -> 3.6% as 2 mm slice stacks. (The particles'
+// wiggles: K within 2.3-3.6% (p95) of the analytic value on the phantoms, 6.2% on the
+// ellipsoid as a 2 mm slice stack (tests/core/mpu/test_mpu_fit.cpp). (The particles'
 // curvature weights keep the Hessian of f: core/particles/particle_step_ref.h says why.)
 //
 // A point that no leaf's support holds (outside the bounding cube) gets f = the cube's

@@ -3,14 +3,14 @@
 // or AVX2 instructions, eight leaves at a time, and chosen at run time by what the CPU
 // supports. Every lane does the reference's operations in the reference's order (no
 // fused multiply-add, the same eight running sums, the same padding of the last eight),
-// so each path gives the reference's bytes; tests/core/test_mpu_eval_simd.cpp checks
+// so each path gives the reference's bytes; tests/core/mpu/test_mpu_eval_simd.cpp checks
 // that on phantoms and random points. What the vectors buy is fewer instructions: the
 // reference copies each leaf field by field into structure-of-arrays form, 29 scalar
 // moves a leaf, where the vector paths load a leaf in four 8-double loads and transpose
 // eight leaves in registers; and the support test runs on eight candidates at once.
 // common/simd_level.h picks the path (MPUMESH_SIMD=generic|avx2|avx512).
-// (Gathers were tried and dropped: an 8-double gather costs about 23 cycles on the
-// machines here, slower than the scalar copy.)
+// (No gathers: an 8-double gather costs about 23 cycles on current x86 cores, more than
+// the scalar copy.)
 //
 // The kernels see the surface only through EvalView, plain pointers, so that their
 // translation units instantiate no Eigen or standard-library template under another

@@ -109,10 +109,8 @@ class Fitter {
   // would be held at the smallest radius. Those are 2/3 of the cell's radius, not half,
   // so the split lowers the error less, while the largest error over a ball's points
   // mostly measures the points' scatter there (eps is about 3 sigma). On the sample CT
-  // the rule keeps 17,000 fewer leaves (76,900) and takes 0.25 s off the fit; the mesh's
-  // p99 distances to and from marching cubes go from 0.57 / 0.83 to 0.60 / 0.84 mm, and
-  // the phantoms' truth figures do not change (their trees stop above that level).
-  // Bounds of 3 and 4 eps gave 0.70 / 0.90 and 0.78 / 0.99 mm.
+  // the rule keeps a fifth fewer leaves at 0.03 mm more p99 distance to marching cubes;
+  // the phantoms' trees stop above that level. A larger bound lets the distance grow.
   static constexpr double kHeldSplit = 2.0;
   bool children_held(const Cell& c) const { return opt.alpha * 0.5 * c.size * std::sqrt(3.0) < min_radius; }
   double split_bound(const Cell& c) const { return children_held(c) ? kHeldSplit * eps : eps; }
@@ -131,24 +129,21 @@ class Fitter {
   const KdTree& tree;
   // Balls, growth and the auxiliary points' six nearest on a grid of cells about the
   // smallest ball (ball_search.h); the k-d tree keeps the large balls of the coarse levels
-  // and the six nearest where the grid finds ties or too few points. (On the sample CT the
-  // grid alone took the fit from 3.75 to 3.48 s, with the same .mpu bytes.)
+  // and the six nearest where the grid finds ties or too few points: the grid answers
+  // the small balls faster than the tree, with the same results.
   std::unique_ptr<BallSearch> search_;
   // Auxiliary points for a general quadric: the cell's corners and centre, with the mean
   // signed distance to their 6 nearest points when all 6 agree in sign (Ohtake 2003).
   // Neighbouring cells share corners, so within a level each corner's value is found once
   // (at the position computed from its integer index, so that it is the same whichever
-  // cell asks first). On the sample CT this cut the fit's nearest-neighbour search time
-  // by a third and the fit by 6%.
+  // cell asks first).
   // A cell away from the data (see `away` in process) may also need its 12 edge midpoints
   // and 6 face centres: 27 points on the half-cell lattice, cached the same way (their keys
   // tagged with kHalfLattice). Its quadric is extrapolated from points outside the cell,
-  // and the 9 points alone leave it free to cross zero between them: on the sample CT
-  // the 27 cut the original MPU mesh's p99 distance to marching cubes (its zero set away
-  // from the bone) from 11.5 to 0.67 mm. Where the quadric held to the 9 keeps their one
-  // sign on all 27 points, the 18 others are not looked up (fit_away): 12,600 of the
-  // 18,600 away cells on the sample CT at the default eps, the fit 10% shorter, with
-  // 158 spurious crossings against 156 in MpuSampleCt.OrthopolyNoWorseThanQuadric.
+  // and the 9 points alone leave it free to cross zero between them, which puts spurious
+  // sheets of f = 0 in the air beside a CT's bone. Where the quadric held to the 9 keeps
+  // their one sign on all 27 points, the 18 others are not looked up (fit_away): two
+  // thirds of the away cells on the sample CT.
   LatticeCache lattice_values;  // NaN: signs disagree
   // The level above's: a corner at depth d is a half-cell lattice point at depth d - 1,
   // and a corner there too when its indices are even (the same position to the bit: the
@@ -403,11 +398,10 @@ Fitter::Outcome Fitter::process(const Cell& c) {
   const bool away = grown && 4 * sup.initial < size_t(opt.nmin);
   // A ball of over a thousand points (the coarse levels: the root's holds them all) is
   // first fitted to an even subsample of 512 of them; when that fit is already off by
-  // more than eps at one of its points, the cell splits without the full fit, which
-  // took 1.3 s of the sample CT's 4.3 s in the eight coarsest levels (few cells, so on
-  // few threads). On the sample CT a subsample of 512 decides as one of 1,024 did (the
-  // same leaves) in 0.04 s less; one of 128 splits cells whose full fit is within eps
-  // (300 more leaves).
+  // more than eps at one of its points, the cell splits without the full fit, which is
+  // slow in the coarsest levels (few cells, so on few threads). A subsample of 512
+  // decides as a larger one does on the sample CT; a much smaller one splits cells whose
+  // full fit is within eps.
   constexpr size_t kProbePoints = 512;
   const bool may_split = c.depth < opt.max_depth && !grown && !at_min_radius;
   if (may_split && ball.ids.size() > 2 * kProbePoints) {
@@ -462,8 +456,8 @@ void Fitter::fit_levels(FitStats& st, LapTimer& timer) {
       st.max_depth_reached = std::max(st.max_depth_reached, c.depth);
       kept.push_back(i);
     }
-    // One allocation and a parallel copy: pushing the last level's 223,000 leaves (280 B
-    // each) one by one took 0.3 s on the sample CT.
+    // One allocation and a parallel copy: the deepest level holds most of the leaves
+    // (280 B each).
     const size_t first = s.leaves.size();
     s.leaves.resize(first + kept.size());
     tbb::parallel_for(size_t(0), kept.size(), [&](size_t k) { s.leaves[first + k] = out[kept[k]].leaf; });

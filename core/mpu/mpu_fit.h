@@ -37,9 +37,9 @@ struct FitOptions {
   int max_degree = 4;     // orthopoly degree cap
   // The orthopoly height fields fit the points' normals too, as slopes (local_fit.h), with
   // the slope length a quarter of the median distance to the 12th nearest point. For
-  // points whose normals are exact or nearly (analytic, a smooth mesh's): on the sliced
-  // ellipsoid K's p95 error falls from 11.3% to 7.0%; on the sample CT (normals by PCA of
-  // the contours) it gains nothing and makes the fit 33% slower, so it is off by default.
+  // points whose normals are exact or nearly (analytic, a smooth mesh's) it makes K
+  // truer between a slice stack's contours; for normals by PCA of the contours (a scan's)
+  // it gains nothing and makes the fit a third slower, so it is off by default.
   bool fit_normals = false;
   double margin = 0.05;   // of the bounding box's largest side, on every side
   int grid_cells = 0;     // lookup grid cells per side; 0 = from the median leaf radius

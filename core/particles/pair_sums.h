@@ -19,7 +19,7 @@ namespace mpumesh::particles {
 // e^x for x ≤ 0: x clamped at -700 (e^-700 is 1e-304; the repulsion's terms that far out
 // are cut anyway), n = round(x / ln 2), r = x - n ln 2 in two parts (Cody and Waite),
 // e^r by its Taylor polynomial of degree 13 (truncation below 1e-17 for |r| ≤ ln 2 / 2),
-// times 2^n. Within 2 ulp of e^x (tests/core/test_pair_sums.cpp). NaN stays NaN.
+// times 2^n. Within 2 ulp of e^x (tests/core/particles/test_pair_sums.cpp). NaN stays NaN.
 double exp_nonpositive(double x);
 
 // The particles, as plain arrays: positions (x, y, z per particle), σ and 1 / σ².

@@ -117,11 +117,9 @@ bool newton_project(const mpu::MpuSurface& s, Eigen::Vector3d& x, int steps, dou
 // even steps; the first step past the far sheet brackets the crossing, which
 // kThicknessBisections bisections narrow (to 1/128 of max_dist). The CPU reference of
 // shaders/particle_step_thickness.comp.
-//
-// (Regula falsi after the bracketing, tried instead of the bisections, found the crossing
-// 30 times more precisely with 2 evaluations fewer, yet the sample CT's particles then
-// took 65-70 iterations to settle instead of 60, with 6% more births: the targets that
-// the thickness sets move with it, and the population follows.)
+// Bisections rather than a faster-converging root finder: the targets that the thickness
+// sets move with its last digits, and the population follows them, so a thickness that
+// changes with the method changes how soon the particles settle.
 constexpr int kThicknessSteps = 4, kThicknessBisections = 5;
 double local_thickness(const mpu::MpuSurface& s, const Eigen::Vector3d& x, const Eigen::Vector3d& n, double max_dist);
 // For every i: local_thickness(s, x[i], n[i], max_dist[i]) (infinity where max_dist is

@@ -173,15 +173,10 @@ void Sampler::iterate() {
     // Settled: for two updates in a row the population's size changed by at most 1.5%
     // and the particles moved less than 12% of their radius per iteration on average.
     // (Births and deaths need not stop: the seeds' Poisson-disk sample leaves holes of up
-    // to twice its radius, which fission fills slowly; on the sample CT at 45,000
-    // particles the count grows by 0.8-1.1% per update from the 15th iteration on, so a
-    // bound of 1% settled seeds 2, 4 and 5 only after 25 iterations, 30 with the final
-    // batch: 0.14 s more, for radius ratios of 0.9622-0.9624 against 0.9605-0.9610.)
-    // The mesh optimisation finishes what the particles leave: on the sample CT at
-    // 45,000 particles, seeds 1-5 settle after 20 iterations (25 with the final batch),
-    // with smallest angles of 25.1-26.2° and radius ratios of 0.9605-0.9614; at its
-    // default count, 35 iterations against 45 with a move bound of 10%, 9.0 s against
-    // 9.9 s for the whole run, radius ratio 0.966 against 0.968.
+    // to twice its radius, which fission fills slowly, by about 1% of the count per
+    // update on the sample CT.) The mesh optimisation finishes what the particles leave,
+    // so the bounds are set where more iterations no longer improve the final mesh's
+    // shapes by more than a few thousandths of radius ratio.
     const double change = double(std::abs(rec.births - rec.deaths));
     const bool settled = change <= std::max(1.0, kSettledCount * double(st.size())) && rec.mean_move < kSettledMove;
     if (final_batch) break;
@@ -197,8 +192,7 @@ void Sampler::iterate() {
 void Sampler::finish() {
   // Those that left the data in the final batch go; for the others, which bound sets
   // their spacing: the local thickness or the curvature (the thickness field, above half).
-  // (Both loops in parallel, and the two fields read from one search: on one core the
-  // fields' searches took 0.06 s on the sample CT.)
+  // (Both loops in parallel, and the two fields read from one search.)
   std::vector<uint8_t> near(st.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, st.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) near[i] = support->near(st.x[i]);

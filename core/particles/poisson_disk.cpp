@@ -21,10 +21,10 @@ std::vector<uint32_t> hashed_order(size_t n, uint32_t seed) {
   return order;
 }
 
-// Block by block: visited in `order` alone, every point went to a random place in the grid
-// and in the points (on the sample CT 615 ns a point, 0.5 s of the seeding); block by
-// block they stay in cache (on the CT a block of 16³ cells, about 40 mm wide, holds a few
-// thousand of the candidate points).
+// Block by block: visited in `order` alone, every point goes to a random place in the grid
+// and in the points, and misses the cache; block by block they stay in cache (on the
+// sample CT a block of 16³ cells, about 40 mm wide, holds a few thousand of the candidate
+// points).
 //
 // The blocks run in parallel where that cannot change the subset. A point's conflicts lie
 // in the 27 cells around it, so within its own block or the 26 next to it; visited in row

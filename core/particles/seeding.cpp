@@ -27,8 +27,8 @@ void Sampler::make_pool() {
   r_pool = std::max(gap, extent / 400);
   bend_floor = source.voxel_size > 0 ? kMinBendVoxels * source.voxel_size : gap;
   if (opt.spacing > 0) r_pool = std::min(r_pool, std::max(opt.spacing * kDiskPerSpacing, extent / 400));
-  // Three independent serial steps over the candidates, run side by side (on the sample
-  // CT 0.07-0.09 s, against 0.15 s in turn): the pool's Poisson disk; the finer one the
+  // Three independent serial steps over the candidates, run side by side: the pool's
+  // Poisson disk; the finer one the
   // seeds are drawn from (see seed); the data support, which removes particles farther
   // than 4 r_pool from every candidate, off the data on a spurious sheet of f
   // (particles/data_support.h).
@@ -130,7 +130,7 @@ double Sampler::solve_flat_spacing(const std::vector<double>& kappa_bound) {
   // A thickness measured as far already serves: one beyond hmax never bounds a target
   // (spacing_targets). The second solve's hmax is the first's within a fraction of a
   // percent (the curvature averaged over patches moves h0 little), so the search runs
-  // once (on the sample CT at 45,000 particles, 10.148 against 10.160 mm).
+  // once.
   if (!(thick_reach >= hmax / opt.thickness_factor)) measure_thickness(nullptr, hmax / opt.thickness_factor);
   for (int grow = 0; grow < 20 && count_for(hmax) > double(opt.particles); ++grow) hmax *= 2;
   double a = h0, b = hmax;
@@ -168,9 +168,9 @@ void Sampler::solve_spacing() {
   }
   lambda = curvature_weights(gauss, opt.curvature_scale, stats.kappa_lo, stats.kappa_hi);
   // The bend bound asks for particles wherever the surface bends; a count asked for has
-  // none to spare (at 45,000 on the sample CT the bound took them from the thin plates:
-  // 20% repair points, 1.6% of the triangles under 30°), so it holds where the count
-  // follows the spacing: by default from a volume, and with --spacing.
+  // none to spare (the bound would take them from a bone's thin plates, which the
+  // triangulation then repairs with poor triangles), so it holds where the count follows
+  // the spacing: by default from a volume, and with a spacing given.
   if (opt.particles > 0 && !(by_default && source.voxel_size > 0)) std::fill(kappa.begin(), kappa.end(), 0.0);
   h = solve_flat_spacing(kappa);
 }

@@ -1,12 +1,11 @@
 // The particles' target spacing as a field over the surface, set before the particles run:
 // computed on the seeding pool (a Poisson-disk sample of f = 0 at about the input's
 // largest sampling gap, particle_system.cpp) and read by each particle from the pool
-// points around it. Targets that each particle took from its own curvature, as it moved,
-// followed the noise of the MPU surface's second derivatives: with the targets graded
-// (spacing_gradation.h), one noisy particle lowered every target within (h - s) / grade
-// of it, so the spacing on the CT-like torus phantom came out nearly uniform (median
-// spacing over the highest tenth of the true |K| 0.83 of the lowest tenth, for a target
-// contrast of 0.22), and the population churned as the targets moved with the particles.
+// points around it. Targets that each particle takes from its own curvature, as it moves,
+// follow the noise of the MPU surface's second derivatives: with the targets graded
+// (spacing_gradation.h), one noisy particle lowers every target within (h - s) / grade of
+// it, which evens the spacing out (on the CT-like torus phantom nearly uniform), and the
+// population churns as the targets move with the particles.
 //
 // Curvature at the sampling's scale. A mesh whose edges are s long cannot follow a bend
 // narrower than s, and the MPU surface's curvature at a point holds detail down to its

@@ -57,9 +57,8 @@ struct Run {
 };
 
 // Too sparse a sample for the surface's thin plates shows as many repair points, and its
-// triangles next to them are poor: on the sample CT 4-5% at 40,000 particles (smallest
-// angle 20°), 16% at 30,000 (1.2% of triangles under 30°), 36% at full resolution at
-// 40,000 (10.6°; 3% and 20.2° at 60,000, 1.5 times the count).
+// triangles next to them are poor: on the sample CT at full resolution, 36% repair points
+// at 40,000 particles with a smallest angle of 10.6°, 3% and 20.2° at 1.5 times the count.
 bool too_sparse(const RestrictedDelaunayStats& t, size_t particles) {
   return particles > 0 && t.repair_points > int64_t(particles) / 10;
 }
@@ -82,10 +81,8 @@ PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
   // and sampled as the scan would be: the tolerance and the default count follow the
   // grid's finest spacing (mesh/voxel_grid.h). Its vertices alone are the data: the
   // centroids of its triangles lie on the staircase's facets, within the voxel the
-  // tolerance allows, and would triple the points. On the sample CT's surface they made
-  // 174,245 leaves where the vertices make 97,168, a fit and sampling 2.5 times as long
-  // and a rougher mesh (mean dihedral 12.98 degrees against 12.58). Any other mesh is
-  // exact data, its faces sampled too.
+  // tolerance allows, and would triple the points, nearly double the leaves and make a
+  // rougher mesh. Any other mesh is exact data, its faces sampled too.
   const auto grid = voxel_grid_spacing(in);
   PointCloud cloud = stage(run.obs, "points", [&] { return pts::mesh_points(in, !grid); });
   if (cloud.size() == 0) throw InputError(run.input + ": the mesh has no triangle with an area");

@@ -313,9 +313,9 @@ int64_t perturb_slivers(TetMesh& m, uint32_t surface_nodes) {
 }
 
 // Steps 1-4 on `surface`: a coarse quality mesh, its nodes given the graded sizes, refined
-// (TetGen's -r: the sizes inside a tetrahedron interpolated from its nodes'; as the
-// background mesh of a second tetrahedralization from the surface the sizes took 15
-// times as long on the sample CT, in locating each new point in it).
+// (TetGen's -r: the sizes inside a tetrahedron interpolated from its nodes'; a background
+// mesh for a second tetrahedralization from the surface would cost many times more, in
+// locating each new point in it).
 TetMesh one_pass(const TriangleMesh& surface, const std::vector<double>& spacing, const TetOptions& opt, double size,
                  TetStats& st) {
   tetgenio in, coarse, out;

@@ -44,8 +44,8 @@ struct TetOptions {
   double min_dihedral = 15;  // TetGen -q: smallest dihedral angle it refines for (degrees)
   int optimize_level = 7;    // TetGen -O (0-9)
   // TetGen -o/: the largest dihedral angle its optimisation accepts (degrees). A sliver has
-  // one near 180°; at TetGen's 165° the sample CT's default mesh kept 75 tetrahedra with
-  // an angle under 10°, at 140° it keeps 2 (each on the surface alone, step 5's note).
+  // one near 180°; TetGen's own 165° keeps dozens of tetrahedra under 10° on the sample
+  // CT's default mesh, 140° keeps those of the surface alone (step 5's note).
   double max_dihedral = 140;
 };
 

@@ -7,6 +7,7 @@
 #include <random>
 
 #include "cpu/cpu_backend.h"
+#include "io/volume_io.h"
 #include "mpu/mpu_fit.h"
 #include "phantom/ct_phantom.h"
 #include "vk/vk_check.h"
@@ -361,6 +362,20 @@ void expect_boundary_within_one_pixel(const ShellPhantom& ph, const Volume& vol,
   EXPECT_EQ(far, 0) << what << ": " << wrong << " pixels mislabelled, farthest " << worst << " mm from the surface";
   std::printf("[ %s ] %lld mislabelled pixels, farthest %.3f mm (pixel %.2f mm)\n", what, (long long)wrong, worst,
               vol.spacing.x());
+}
+
+std::string ball_phantom(const std::string& dir) {
+  const std::string p = dir + "/ball.mha";
+  write_volume(sphere_volume({30, 28, 12}, {0.6, 0.6, 2.0}, {9, 8, 12}, 6.0), p);
+  return p;
+}
+
+pipeline::RunOptions ball_run_options() {
+  pipeline::RunOptions o;  // the threshold alone: the threshold method
+  o.segment.method = seg::Method::kThreshold;
+  o.segment.threshold = {0};
+  o.sample.particles = 1500;
+  return o;
 }
 
 }  // namespace mpumesh::test

@@ -13,6 +13,7 @@
 #include "mpu/mpu_surface.h"
 #include "particles/particle_system.h"
 #include "particles/spacing_stats.h"
+#include "pipeline/run_pipeline.h"
 #include "segment/segmentation.h"
 #include "volume/volume.h"
 #include "vulkan_backend.h"
@@ -113,6 +114,12 @@ struct ShapeRun {
 ShapeRun run_shape(const AnalyticShape& shape, int64_t count, bool dense = true);
 // Its figures on one line, and the population's history.
 void print_run(const char* name, const ShapeRun& r);
+
+// A ball of radius 6 mm (0.6 x 0.6 x 2 mm voxels, 0 HU at its surface) written to `dir`
+// (ball.mha); its path. And the pipeline's options for it as `run --threshold 0
+// --particles 1500` makes them.
+std::string ball_phantom(const std::string& dir);
+pipeline::RunOptions ball_run_options();
 
 // Random binary volume (values +-100), fixed seed.
 Volume random_volume(std::array<int64_t, 3> dims, double fill, uint32_t seed);

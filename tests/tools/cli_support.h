@@ -33,11 +33,7 @@ inline Result run(const std::string& args, const std::string& env = "") {
   return r;
 }
 
-inline std::string ball_phantom(const std::string& dir) {
-  const std::string p = dir + "/ball.mha";
-  write_volume(test::sphere_volume({30, 28, 12}, {0.6, 0.6, 2.0}, {9, 8, 12}, 6.0), p);
-  return p;
-}
+using test::ball_phantom;
 
 // A run that must fail: exit 1, one "mpumesh: error:" line containing `words`, `out` not
 // created, and no temporary (.partial) file left beside it.

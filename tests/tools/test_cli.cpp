@@ -196,14 +196,13 @@ TEST(Cli, ReportReadsTheRunReportsSpacingFigures) {
     EXPECT_EQ(report_with(odd).find("have their spacing set by"), std::string::npos) << odd;
 }
 
-// The repair's points make no needles on the sample CT, at two ε0 that once did (at the
-// default ε0 neither case arose):
+// The repair's points make no needles on the sample CT at two ε0 where they would:
 // - 0.347 mm: two repair crossings 3 µm apart (triangles of 0.20° and 0.40° that neither
-//   the collapses nor the relaxation could mend); now the second is left out
-//   (restricted_delaunay.cpp, kRepairMerge; repair_crossings_merged);
-// - 0.2 mm: a lost sheet's point 1e-10 mm from its particle, which lay where ∇f nearly
-//   vanishes, on no sheet (two 0° triangles); now such a particle gets none
-//   (opposite_sheet).
+//   the collapses nor the relaxation can mend), of which the second is left out
+//   (mesh/delaunay_state.h, kRepairMerge; repair_crossings_merged);
+// - 0.2 mm: a lost sheet's point 1e-10 mm from its particle, which lies where ∇f nearly
+//   vanishes, on no sheet (two 0° triangles), which such a particle does not get
+//   (mesh/lost_sheets.cpp, opposite_sheet).
 // No angle is under the 15° that the quality targets ask for.
 TEST(Cli, RepairMakesNoNeedlesOnTheSampleCt) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);

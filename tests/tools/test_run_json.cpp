@@ -15,29 +15,21 @@
 namespace mpumesh {
 namespace {
 
-pipeline::RunOptions ball_options() {
-  pipeline::RunOptions o;  // as `run --threshold 0 --particles 1500`: the threshold alone
-  o.segment.method = seg::Method::kThreshold;
-  o.segment.threshold = {0};
-  o.sample.particles = 1500;
-  return o;
-}
-
 TEST(RunJson, ThePipelineWritesTheBytesTheCommandLineWrites) {
   const std::string dir = test::temp_dir("pipeline");
-  const std::string ball = ball_phantom(dir);
+  const std::string ball = test::ball_phantom(dir);
   ASSERT_EQ(run("run " + ball + " --threshold 0 --particles 1500 --backend cpu --quiet -o " + dir + "/cli.ply").code, 0);
   CpuBackend cpu;
-  const pipeline::RunResult r = pipeline::run_pipeline(ball, ball_options(), [&]() -> ComputeBackend& { return cpu; });
+  const pipeline::RunResult r = pipeline::run_pipeline(ball, test::ball_run_options(), [&]() -> ComputeBackend& { return cpu; });
   write_mesh(r.mesh, dir + "/pipeline.ply");
   EXPECT_EQ(read_file(dir + "/pipeline.ply"), read_file(dir + "/cli.ply"));
 }
 
 TEST(RunJson, WhatTheReportShowsReadsBackAsWritten) {
   const std::string dir = test::temp_dir("run_json");
-  const std::string ball = ball_phantom(dir);
+  const std::string ball = test::ball_phantom(dir);
   CpuBackend cpu;
-  pipeline::RunOptions o = ball_options();
+  pipeline::RunOptions o = test::ball_run_options();
   o.spacing_figures = true;
   o.components.largest = 1;
   o.volume_mesh = TetOptions{};

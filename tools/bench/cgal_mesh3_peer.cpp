@@ -65,10 +65,9 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
           : Criteria(CGAL::parameters::facet_angle = p.facet_angle, CGAL::parameters::facet_size = p.facet_size,
                      CGAL::parameters::facet_distance = p.facet_distance);
   // CGAL's own start for images: a seed in every connected component of the thresholded
-  // image, and the surface points that rays from it meet. (With its default random start
-  // Mesh_3 loses whole bones; with 24 points of each marching-cubes component, this
-  // peer's start until now, it lost the two largest after the skull, 134,000 of the
-  // marching-cubes surface's 678,000 triangles.) It reports on std::cout; that is muted.
+  // image, and the surface points that rays from it meet. (With its default random
+  // start, or a few points of each marching-cubes component, Mesh_3 loses whole bones of
+  // the sample CT.) It reports on std::cout; that is muted.
   C3t3 c3t3;
   {
     std::ostringstream muted;

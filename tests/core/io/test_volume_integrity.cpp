@@ -262,7 +262,7 @@ TEST(LibraryMessages, DamageIsAnErrorAndTheRestAreNotes) {
 }
 
 // A real file whose decoder complains on stderr (12-bit lossy JPEG, which GDCM's JPEG
-// codec cannot decode) was read as garbage without a word; now the complaint is the error.
+// codec cannot decode) would read as garbage without a word: the complaint is the error.
 TEST(VolumeIntegrity, DecoderComplaintsAreErrors) {
   MPUMESH_DATA_OR_SKIP(f, test::pydicom_file("JPEG-lossy.dcm"), "python3-pydicom");
   expect_refused(f, "the reader reports damage: ");

@@ -60,8 +60,8 @@ const Case& ellipsoid() {
     std::vector<Eigen::Vector3d> points;
     const int n = 2500;
     for (int k = 0; k < n; ++k) {  // a Fibonacci spiral on the sphere, jittered, onto the ellipsoid
-      const double z = 1 - (2 * k + 1.0) / n, rho = std::sqrt(1 - z * z), phi = k * M_PI * (3 - std::sqrt(5.0));
-      Eigen::Vector3d u(rho * std::cos(phi) + jitter(rng), rho * std::sin(phi) + jitter(rng), z + jitter(rng));
+      const Eigen::Vector3d d = test::fibonacci_direction(k, n);
+      Eigen::Vector3d u(d.x() + jitter(rng), d.y() + jitter(rng), d.z() + jitter(rng));
       u.normalize();
       Eigen::Vector3d p(r.shape.a * u.x(), r.shape.b * u.y(), r.shape.c * u.z());
       particles::newton_project(r.surface, p, 8, 5.0);

@@ -13,14 +13,6 @@
 namespace mpumesh {
 namespace {
 
-// A ball of radius 6 mm (0.6 x 0.6 x 2 mm voxels), written to `dir` as the command
-// line's tests write it.
-std::string ball_phantom(const std::string& dir) {
-  const std::string p = dir + "/ball.mha";
-  write_volume(test::sphere_volume({30, 28, 12}, {0.6, 0.6, 2.0}, {9, 8, 12}, 6.0), p);
-  return p;
-}
-
 class Recorder : public pipeline::Observer {
  public:
   std::vector<std::string> stages, notes;
@@ -30,21 +22,13 @@ class Recorder : public pipeline::Observer {
   void note(const std::string& line) override { notes.push_back(line); }
 };
 
-pipeline::RunOptions ball_options() {
-  pipeline::RunOptions o;  // as `run --threshold 0 --particles 1500`: the threshold alone
-  o.segment.method = seg::Method::kThreshold;
-  o.segment.threshold = {0};
-  o.sample.particles = 1500;
-  return o;
-}
-
 TEST(Pipeline, RunsItsStagesInOrderAndOpensTheBackendOnce) {
   const std::string dir = test::temp_dir("pipeline_stages");
-  const std::string ball = ball_phantom(dir);
+  const std::string ball = test::ball_phantom(dir);
   CpuBackend cpu;
   int opened = 0;
   Recorder rec;
-  pipeline::RunOptions o = ball_options();
+  pipeline::RunOptions o = test::ball_run_options();
   o.baselines = true;
   const pipeline::RunResult r = pipeline::run_pipeline(
       ball, o,
@@ -117,9 +101,9 @@ TEST(Pipeline, RemeshesAClosedMeshAndRefusesAnOpenOne) {
 
 TEST(Pipeline, NamesTheVolumeWhenItHoldsNoSurface) {
   const std::string dir = test::temp_dir("pipeline_empty");
-  const std::string ball = ball_phantom(dir);
+  const std::string ball = test::ball_phantom(dir);
   CpuBackend cpu;
-  pipeline::RunOptions o = ball_options();
+  pipeline::RunOptions o = test::ball_run_options();
   o.segment.threshold = {5000};  // nothing is that bright
   EXPECT_THROW(
       {
@@ -137,9 +121,9 @@ TEST(Pipeline, SaysSoWhenOnlySpecksAreFound) {
   // The ball counted as a speck (a bound of a million voxels): dropped with the rest, and the
   // run says why, not that --min-volume (not given) dropped it.
   const std::string dir = test::temp_dir("pipeline_specks");
-  const std::string ball = ball_phantom(dir);
+  const std::string ball = test::ball_phantom(dir);
   CpuBackend cpu;
-  pipeline::RunOptions o = ball_options();
+  pipeline::RunOptions o = test::ball_run_options();
   o.speck_voxels = 1e6;
   try {
     pipeline::run_pipeline(ball, o, [&]() -> ComputeBackend& { return cpu; });
