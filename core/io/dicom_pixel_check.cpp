@@ -73,7 +73,10 @@ void check_dicom_pixel_data(const std::string& b, const std::string& name) {
   const uint64_t rows = find_us(b, 0x0028, 0x0010, value_start), cols = find_us(b, 0x0028, 0x0011, value_start);
   const uint64_t bits = find_us(b, 0x0028, 0x0100, value_start);
   const uint64_t spp = std::max<uint64_t>(1, find_us(b, 0x0028, 0x0002, value_start));
-  const uint64_t frame = rows * cols * spp * ((bits + 7) / 8);
+  // 1-bit pixels (a segmentation) are packed; 4:2:2 colour holds two samples a pixel, not three.
+  const std::string head = b.substr(0, value_start);
+  const bool ybr422 = head.find("YBR_FULL_422") != std::string::npos || head.find("YBR_PARTIAL_422") != std::string::npos;
+  const uint64_t frame = (rows * cols * (ybr422 && spp == 3 ? 2 : spp) * bits + 7) / 8;
   if (rows && cols && bits && declared < frame)
     throw InputError(name + ": truncated DICOM: the pixel data holds " + std::to_string(declared) + " bytes, but " +
                      std::to_string(rows) + " x " + std::to_string(cols) + " pixels of " + std::to_string(bits) +

@@ -24,7 +24,9 @@
 #include "common/error.h"
 #include "common/text.h"
 #include "io/atomic_file.h"
+#include "io/dicom_kind.h"
 #include "io/dicom_pixel_check.h"
+#include "io/read_file.h"
 #include "io/library_messages.h"
 #include "io/volume_integrity.h"
 
@@ -222,10 +224,15 @@ PlainVolume itk_read_file(const std::string& path) {
   std::error_code ec;
   if (fs::file_size(path, ec) == 0) throw InputError(path + ": file is empty");
   check_volume_file(path);
+  const bool dicom = dynamic_cast<itk::GDCMImageIO*>(io.GetPointer()) != nullptr;
+  const std::string bytes = dicom ? read_file(path) : std::string();
+  if (dicom) refuse_dicom_without_image(bytes, path);
   LibraryMessages messages;  // from the first look at the file to the last voxel
-  if (!io->CanReadFile(path.c_str()))
+  if (!io->CanReadFile(path.c_str())) {
+    if (dicom) explain_unreadable_dicom(bytes, path);
     throw InputError(path + ": not a valid " + io->GetNameOfClass() + " file (wrong magic or header)");
-  if (dynamic_cast<itk::GDCMImageIO*>(io.GetPointer())) check_dicom_pixel_data_file(path);
+  }
+  if (dicom) check_dicom_pixel_data(bytes, path);
   try {
     auto reader = itk::ImageFileReader<FloatImage>::New();
     reader->SetImageIO(io);
@@ -239,6 +246,7 @@ PlainVolume itk_read_file(const std::string& path) {
     v.notes = messages.take(path);
     return v;
   } catch (const itk::ExceptionObject& e) {
+    if (dicom) explain_unreadable_dicom(bytes, path);
     throw InputError(path + ": cannot read volume: " + std::string(e.GetDescription()));
   }
 }

@@ -6,6 +6,7 @@
 
 #include "common/error.h"
 #include "common/text.h"
+#include "io/isolated_read.h"
 #include "io/itk_image_io.h"
 #include "io/read_file.h"
 
@@ -40,6 +41,16 @@ PlainVolume to_plain(const Volume& v) {
   return p;
 }
 
+// How a message names the reader of a file, by its extension.
+std::string reader_name(const std::string& path) {
+  const std::string p = lower_case(path);
+  if (p.ends_with(".dcm")) return "the DICOM reader";
+  if (p.ends_with(".nii") || p.ends_with(".nii.gz")) return "the NIfTI reader";
+  if (p.ends_with(".nrrd") || p.ends_with(".nhdr")) return "the NRRD reader";
+  if (p.ends_with(".mha") || p.ends_with(".mhd")) return "the MetaImage reader";
+  return "the volume reader";
+}
+
 }  // namespace
 
 Volume read_volume(const std::string& path) {
@@ -47,9 +58,12 @@ Volume read_volume(const std::string& path) {
   std::error_code ec;
   if (!fs::exists(path, ec)) throw InputError(path + ": file or directory not found");
   Volume v;
-  if (fs::is_directory(path, ec)) v = from_plain(itk_read_dicom_series(path), path);
+  // ITK, GDCM and their codecs run in a child process (io/isolated_read.h); the .inv3
+  // reader is the project's own, and fuzzed.
+  if (fs::is_directory(path, ec))
+    v = from_plain(read_isolated(path, "the DICOM reader", [&] { return itk_read_dicom_series(path); }), path);
   else if (lower_case(path).ends_with(".inv3")) v = parse_inv3(read_file(path), path);
-  else v = from_plain(itk_read_file(path), path);
+  else v = from_plain(read_isolated(path, reader_name(path), [&] { return itk_read_file(path); }), path);
   validate_volume(v, path);
   require_finite_voxels(v, path);
   return v;

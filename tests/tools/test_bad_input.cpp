@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "cli_support.h"
+#include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/point_io.h"
 #include "io/read_file.h"
@@ -297,6 +298,62 @@ TEST(Faults, OutputsAreCheckedBeforeTheWork) {
   expect_failure("run " + in + " -o " + dir + "/o.ply --html /proc/r.html", "not writable", dir + "/o.ply");
   expect_failure("render " + in + " -o /proc/v.png", "not writable", "/proc/v.png");
   expect_failure("convert " + in + " -o /proc/v.mha", "not writable", "/proc/v.mha");
+}
+
+// Every DICOM file of pydicom's test corpus (python3-pydicom's data/test_files/*.dcm)
+// through `convert`: each reads, or is refused with one line that names it; none crashes
+// the process (a third-party reader's crash comes back as that line: io/isolated_read.h)
+// and none runs past the 60 s that `timeout` gives it. The kinds of file that hold no
+// image say what they are.
+TEST(BadInput, EveryFileOfPydicomsCorpusReadsOrIsRefusedWithOneLine) {
+  MPUMESH_DATA_OR_SKIP(ct_small, test::pydicom_file("CT_small.dcm"), "python3-pydicom");
+  const std::filesystem::path corpus = std::filesystem::path(ct_small).parent_path();
+  const std::string dir = test::temp_dir("pydicom_corpus");
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(corpus))
+    if (e.path().extension() == ".dcm") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  ASSERT_GE(files.size(), 60u);
+  int read = 0, refused = 0;
+  for (const std::string& f : files) {
+    const std::string out = dir + "/" + std::filesystem::path(f).stem().string() + ".nii.gz";
+    const Result r = run("convert " + f + " -o " + out + " --quiet", "timeout 60");
+    ASSERT_TRUE(r.code == 0 || r.code == 1) << f << ": exit " << r.code << "\n" << r.out;
+    if (r.code == 0) {
+      ++read;
+      EXPECT_TRUE(std::filesystem::exists(out)) << f;
+      continue;
+    }
+    ++refused;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_EQ(r.out.rfind("mpumesh: error: " + f + ": ", 0), 0u) << r.out;
+    EXPECT_FALSE(std::filesystem::exists(out)) << f;
+  }
+  std::printf("%zu files: %d read, %d refused\n", files.size(), read, refused);
+  const std::vector<std::pair<const char*, const char*>> kinds = {
+      {"rtplan.dcm", "holds no image to mesh: it is an RT plan"},
+      {"rtstruct.dcm", "holds no image to mesh: it is an RT structure set"},
+      {"test-SR.dcm", "holds no image to mesh: it is a structured report"},
+      {"waveform_ecg.dcm", "holds no image to mesh: it is a waveform"},
+      {"rtdose_1frame.dcm", "the DICOM reader crashed (abort)"}};
+  for (const auto& [name, words] : kinds)
+    expect_failure("convert " + (corpus / name).string() + " -o " + dir + "/k.nii.gz", words, dir + "/k.nii.gz");
+}
+
+// The reader's child killed on purpose (MPUMESH_READER_TEST=abort) and made to hang past
+// the time limit: each is one line naming the file, and an existing output stays as it was.
+TEST(Faults, TheReadersCrashOrHangIsAnErrorThatNamesTheFile) {
+  const std::string dir = test::temp_dir("reader_faults");
+  const std::string ball = ball_phantom(dir), out = dir + "/out.nii.gz";
+  write_file_atomically("the old output", out);
+  for (const auto& [env, words] :
+       {std::pair<std::string, std::string>{"MPUMESH_READER_TEST=abort", "the MetaImage reader crashed (abort)"},
+        {"MPUMESH_READER_TEST=hang MPUMESH_READER_TIMEOUT=1", "the MetaImage reader ran past its time limit of 1 s"}}) {
+    const Result r = run("convert " + ball + " -o " + out, env);
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.out.find("mpumesh: error: " + ball + ": " + words), std::string::npos) << r.out;
+    EXPECT_EQ(read_file(out), "the old output");
+  }
 }
 
 }  // namespace
