@@ -9,7 +9,9 @@
 
 #include "commands.h"
 #include "common/error.h"
+#include "common/text.h"
 #include "io/atomic_file.h"
+#include "io/read_file.h"
 #include "io/volume_io.h"
 #include "vk/context.h"
 
@@ -55,7 +57,7 @@ void add_devices_command(CLI::App& app, CommonOptions& common, std::function<voi
 void add_convert_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
   struct Opts {
     std::string input, output, size;
-    bool dicom = false;
+    bool dicom = false, masks = false;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = app.add_subcommand("convert", "Convert a volume (e.g. an InVesalius .inv3) to NIfTI, NRRD, "
@@ -63,6 +65,9 @@ void add_convert_command(CLI::App& app, CommonOptions& common, std::function<voi
   cmd->add_option("input", o->input, "volume: DICOM directory, .dcm, .nii[.gz], .nrrd, .mha/.mhd, .inv3")->required();
   cmd->add_option("-o,--output", o->output, ".nii, .nii.gz, .nrrd, .mha, or a directory with --dicom")->required();
   cmd->add_flag("--dicom", o->dicom, "write a DICOM series (one file per slice) into the output directory");
+  cmd->add_flag("--masks", o->masks,
+                "an .inv3 project's masks as one label map: mask i is label i+1, the first mask wins where they "
+                "overlap");
   cmd->add_option("--size", o->size,
                   "XxYxZ: resample (trilinear) to this many voxels over the same extent, e.g. 512x512x324");
   cmd->add_flag("--quiet,-q", common.quiet, "print nothing but errors");
@@ -78,7 +83,11 @@ void add_convert_command(CLI::App& app, CommonOptions& common, std::function<voi
           throw InputError("--size: '" + o->size + "' is not XxYxZ with whole numbers from 2 to 8192");
         dims = {x, y, z};
       }
-      Volume v = read_volume(o->input);
+      if (o->masks && !lower_case(o->input).ends_with(".inv3"))
+        throw InputError(o->input + ": --masks reads an InVesalius project (.inv3)");
+      if (o->masks && !o->size.empty())
+        throw InputError(o->input + ": --masks makes a label map, which --size would blend (trilinear)");
+      Volume v = o->masks ? parse_inv3_masks(read_file(o->input), o->input) : read_volume(o->input);
       if (!o->size.empty()) v = resample(v, dims);
       if (o->dicom) write_dicom_series(v, o->output);
       else write_volume(v, o->output);

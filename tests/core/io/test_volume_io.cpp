@@ -102,6 +102,44 @@ TEST(VolumeIo, PhantomRoundTripsThroughEveryWriter) {
   EXPECT_THROW(write_volume(v, dir + "/v.mhd"), InputError);
 }
 
+// The sample project's two masks are InVesalius thresholds of its CT: bone (226-3071 HU)
+// inside a wider range (-142-2986 HU). As a label map the bone is label 1 and the rest
+// of the wider mask label 2, voxel for voxel.
+TEST(VolumeIo, SampleProjectMasksAreALabelMapOfTheirThresholds) {
+  MPUMESH_SAMPLE_CT_OR_SKIP(ct);
+  const Volume image = read_volume(ct);
+  const Volume labels = parse_inv3_masks(read_file(ct), ct);
+  ASSERT_EQ(labels.dims, image.dims);
+  EXPECT_EQ(labels.spacing, image.spacing);
+  int64_t bone = 0, soft = 0, wrong = 0;
+  for (size_t i = 0; i < image.voxels.size(); ++i) {
+    const float hu = image.voxels[i];
+    const float expect = hu >= 226 && hu <= 3071 ? 1.f : hu >= -142 && hu <= 2986 ? 2.f : 0.f;
+    wrong += labels.voxels[i] != expect;
+    bone += labels.voxels[i] == 1.f;
+    soft += labels.voxels[i] == 2.f;
+  }
+  EXPECT_EQ(wrong, 0);
+  EXPECT_EQ(bone, 475759);
+  EXPECT_EQ(soft, 2319106 - 475759);
+  // A project with no masks says so.
+  const std::string plist = "<?xml version=\"1.0\"?><plist version=\"1.0\"><dict><key>matrix</key><dict><key>shape"
+                            "</key><array><integer>2</integer><integer>2</integer><integer>2</integer></array></dict>"
+                            "<key>spacing</key><array><real>1</real><real>1</real><real>1</real></array></dict></plist>";
+  std::string tar(512, '\0');
+  std::memcpy(&tar[0], "main.plist", 10);
+  std::snprintf(&tar[124], 12, "%011o", unsigned(plist.size()));
+  tar[156] = '0';
+  std::memcpy(&tar[257], "ustar", 5);
+  tar += plist + std::string((512 - plist.size() % 512) % 512, '\0') + std::string(1024, '\0');
+  try {
+    parse_inv3_masks(gzip(tar), "none.inv3");
+    FAIL() << "a project without masks was read";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "none.inv3: the project holds no masks");
+  }
+}
+
 TEST(VolumeIo, SampleCtIsTheSameInEveryFormat) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);
   const Volume inv3 = read_volume(ct);
