@@ -54,6 +54,10 @@ section "Volume meshes" \
 section "Accuracy against analytic truth" \
   "CT-like phantoms (partial volume, noise, slices thicker than the pixels, tilted shapes), meshed as a user does, scored from the mesh files against the closed form." \
   "$B/mpumesh_bench_truth"
+"$B/mpumesh" convert "$ct" --masks -o "$tmp/masks.nii.gz" --quiet
+section "Label maps against analytic truth" \
+  "Label-map phantoms (each voxel the label at its centre, slices 2-3 times the pixel, tilted) meshed by \`mpumesh run MAP --label 1\`, CGAL Mesh_3 on the same label map at about the same count, and ours on the grey CT-like scan of the same shape; then the sample project's masks as a label map (\`convert --masks\`: bone, and the soft tissue outside it), every label meshed by \`run --labels all\`, against Mesh_3 on each label and the count the grey-volume rule gives for the bone (\`run CT --threshold 226\`). The slice column is the slice-phase modulation of |H|, computed from the written mesh: the vertices' |H| (the PLY's H, from the fitted surface) binned by the phase of the vertex along the slice axis within the slice period, 8 bins, (max - min) / mean of the bins' means." \
+  "$B/mpumesh_bench_labels" cpu --real "$tmp/masks.nii.gz" --grey "$ct:226:1"
 section "Segmentation and points" "The sample CT's segmentation and point stages on every backend." \
   "$B/mpumesh_bench_points" "$ct" 226
 section "MPU fit and evaluation" "The fit of the sample CT's points and the evaluation throughput on every backend." \
@@ -73,6 +77,23 @@ section "The sample CT at full resolution" \
 "$B/mpumesh" run "$ct" --threshold 226 --largest 1 -o "$tmp/skull.ply" --quiet --no-self-intersections
 "$B/mpumesh" render "$tmp/skull.ply" -o docs/skull.png --color curvature --view=-1,1,1 --size 800x600 \
   --title "sample CT, --largest 1" --quiet
+
+# The README's label-map pictures: the masks' bone at every other slice (3 mm), with the
+# in-plane voxel as the fit's tolerance (--eps) and with the label-map rule.
+/usr/bin/python3 - "$tmp/masks.nii.gz" "$tmp/masks3.nii.gz" <<'PY'
+import sys, nibabel as nib, numpy as np
+img = nib.load(sys.argv[1])
+a = img.affine.copy(); a[:3, 2] *= 2
+nib.save(nib.Nifti1Image(np.asarray(img.dataobj)[:, :, ::2], a, img.header), sys.argv[2])
+PY
+for rule in voxel grid; do
+  eps=(); [ "$rule" = voxel ] && eps=(--eps 0.957)
+  "$B/mpumesh" run "$tmp/masks3.nii.gz" --label 1 "${eps[@]}" -o "$tmp/bone_$rule.ply" --quiet
+done
+"$B/mpumesh" render "$tmp/bone_voxel.ply" -o docs/label_before.png --color curvature --view=0.2,0.5,1 \
+  --zoom 124,110,120,65 --range=-0.01:0.01 --size 560x420 --title "voxel tolerance" --quiet
+"$B/mpumesh" render "$tmp/bone_grid.ply" -o docs/label_after.png --color curvature --view=0.2,0.5,1 \
+  --zoom 124,110,120,65 --range=-0.01:0.01 --size 560x420 --title "grid-step tolerance" --quiet
 
 {
   echo "# Benchmarks"

@@ -108,6 +108,11 @@ void add_summary(report::HtmlPage& page, const ReportRun& run) {
                                                                   : spell_options(r.derived.tolerance.source, run.spell);
     page.paragraph(report::escape_html(fmt::format("The fit's tolerance ε0 is {:.3f} mm: {}.", r.fit.eps, source)));
   }
+  if (r.slice_phase)
+    page.paragraph(report::escape_html(fmt::format(
+        "Slice terraces: the mean curvature |H| at the vertices, averaged by their phase within the label map's slice "
+        "period, varies by {:.2f} of its mean (a smooth surface shows under 0.2, a staircase 0.4 and more).",
+        r.slice_phase->modulation)));
   if (r.sample.particles > 0 || r.sample.off_data > 0)
     page.paragraph(report::escape_html(fmt::format(
         "{} particles were removed for lying on a zero set of the fit away from every input point (a spurious "

@@ -171,6 +171,11 @@ nlohmann::json run_json(const pipeline::RunResult& r, const RunReportContext& ct
     j["volume_mesh"]["output"] = ctx.volume_output;
   }
   if (r.quality) j["quality"] = quality_to_json(*r.quality);
+  if (r.slice_phase)
+    j["slice_phase"] = {{"modulation", r.slice_phase->modulation},
+                        {"mean_abs_h_per_mm", r.slice_phase->mean_abs_h},
+                        {"bin_mean_abs_h_per_mm", r.slice_phase->bin_mean_abs_h},
+                        {"bin_vertices", r.slice_phase->bin_vertices}};
   j["notes"] = spelled(r.notes, ctx.spell);
   j["version"] = MPUMESH_VERSION;
   return j;

@@ -158,6 +158,11 @@ RunReportRead read_run_json(const json& j, const std::string& /*path*/) {
     for (const json& line : *n)
       if (line.is_string()) r.notes.push_back(line.get<std::string>());
   if (const json* v = member(j, "volume_mesh"); v && v->is_object()) read_volume_mesh(*v, r);
+  if (const json* p = member(j, "slice_phase"); p && p->is_object() && member(*p, "modulation") &&
+                                                (*p)["modulation"].is_number()) {
+    r.slice_phase = SlicePhase{};
+    r.slice_phase->modulation = (*p)["modulation"].get<double>();
+  }
   if (const json* s = member(j, "stage_seconds"); s && s->is_object())
     for (const auto& [name, sec] : s->items())
       if (sec.is_number()) out.stage_seconds.emplace_back(name, sec.get<double>());

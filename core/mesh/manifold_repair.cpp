@@ -6,6 +6,7 @@
 // crosses f = 0; a facet far wider than the sampling around it gets its crossing too.
 // The cells the new points replace are evaluated and the facets found again, round by
 // round; then the lost sheets (mesh/lost_sheets.cpp), and the repair again around them.
+#include <fmt/format.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
@@ -153,12 +154,15 @@ bool Triangulation::repair_round(int round, LapTimer& timer) {
   const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
   const std::vector<std::pair<uint32_t, double>> wide = oversized_facets(facets, touched, touched.size());
   if (groups.empty() && wide.empty()) return true;
-  if (repair.size() >= max_repair || round >= 100)
-    throw NumericalError("triangulate: " + std::to_string(groups.size()) +
-                         " non-manifold edges or vertices and " + std::to_string(wide.size()) +
-                         " wide facets remain after " + std::to_string(repair.size()) +
-                         " repair points in " + std::to_string(round) +
-                         " rounds: the particles are too sparse for this surface (ask for more)");
+  if (repair.size() >= max_repair || round >= 100) {
+    const RFacet& at = facets[groups.empty() ? wide[0].first : groups[0][0]];
+    const Eigen::Vector3d where = vec(at.cell->vertex((at.i + 1) & 3)->point());
+    throw NumericalError(fmt::format("triangulate: {} non-manifold edges or vertices and {} wide facets remain after {} "
+                                     "repair points in {} rounds, one at ({:.1f}, {:.1f}, {:.1f}) mm: the particles are "
+                                     "too sparse for this surface (ask for more)",
+                                     groups.size(), wide.size(), repair.size(), round, where.x(), where.y(),
+                                     where.z()));
+  }
   // The largest facet of each group, each crossing computed once and each facet once.
   // The crossings (bisection on f) are found in parallel.
   std::vector<uint32_t> need;

@@ -39,6 +39,7 @@ PointCloud without_duplicates(const PointCloud& in, int64_t* removed) {
     table[at] = uint32_t(i);
     out.positions.push_back(p);
     out.normals.push_back(in.normals[i]);
+    if (!in.tolerance.empty()) out.tolerance.push_back(in.tolerance[i]);
   }
   *removed = int64_t(in.size() - out.size());
   return out;

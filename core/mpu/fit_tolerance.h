@@ -10,6 +10,8 @@
 // median spacing), since nothing says they are noisy.
 #pragma once
 
+#include <Eigen/Dense>
+#include <cstdint>
 #include <string>
 
 #include "common/kd_tree.h"
@@ -27,5 +29,35 @@ struct Tolerance {
 // `pixel`: the in-plane voxel size (Volume::in_plane_spacing); `index`: a PointIndex's
 // tree over the points, if the caller has one.
 Tolerance volume_tolerance(const PointCloud& cloud, double pixel, const KdTree* index = nullptr);
+
+// Label maps. A crisp label has no partial volume: its contour points are quantised to
+// the grid, the boundary anywhere within half a step of where the contour puts it along
+// each axis, the pixel in-plane and the slice along the slice axis. Their spread about
+// the surface reaches √2 steps peak to peak where the normal runs diagonally, so the fit
+// holds a point to kLabelSteps grid steps measured along its normal n:
+//   ε(n) = 1.5 √(pixel² (1 - (n·a)²) + slice² (n·a)²),   a the slice axis,
+// but no more than half the distance to the nearest point facing the other way (the
+// other face of a plate or gap thinner than that), and no less than ε0. Each point's
+// PointCloud::tolerance is ε(n) / ε0: the fit counts its error there divided by it and
+// weighs it by its inverse square (local_fit.cpp).
+inline constexpr double kLabelSteps = 1.5;
+
+// A label map's fit reaches across its slices: its automatic smallest radius is at least
+// kLabelMinRadiusSlices slice spacings (FitOptions::min_radius_floor), so that every ball
+// holds the contours of the slices on either side of its centre.
+inline constexpr double kLabelMinRadiusSlices = 1.5;
+
+struct LabelGrid {
+  Eigen::Vector3d slice_axis{0, 0, 1};  // unit
+  double pixel = 0, slice = 0;          // mm
+};
+
+struct LabelTolerance {
+  double median_factor = 1;  // of ε(n) / ε0
+  int64_t thin_points = 0;   // held below ε(n) by a face facing the other way
+};
+
+// `index`: a tree over cloud.positions; `eps`: ε0 (mm).
+LabelTolerance set_label_map_tolerance(PointCloud& cloud, const KdTree& index, const LabelGrid& grid, double eps);
 
 }  // namespace mpumesh::mpu

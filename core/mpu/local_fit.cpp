@@ -18,6 +18,7 @@ double bspline(double r, double R) {
 // reused from ball to ball (the fit makes about a quarter of a million of them).
 struct Local {
   std::vector<double> u, v, w, weight;
+  std::vector<double> tolerance;  // the points' (PointCloud::tolerance); empty: 1
 };
 
 Local& to_local(const Ball& ball, const PointCloud& cloud, const Eigen::Matrix3d& frame) {
@@ -35,6 +36,19 @@ Local& to_local(const Ball& ball, const PointCloud& cloud, const Eigen::Matrix3d
     l.w[i] = y.z();
     // A floor keeps points on the rim of a grown ball from vanishing from the fit.
     l.weight[i] = std::max(bspline(d.norm(), ball.radius), 1e-3);
+  }
+  // Weighted least squares: a point's weight falls with its tolerance squared, scaled so
+  // that the ball's points weigh as much in all as they would at tolerance 1 (the general
+  // quadric's auxiliary points keep their share).
+  l.tolerance.clear();
+  if (!cloud.tolerance.empty() && n > 0) {
+    double inverse_sum = 0;
+    for (size_t i = 0; i < n; ++i) {
+      l.tolerance.push_back(cloud.tolerance[ball.ids[i]]);
+      inverse_sum += 1.0 / (l.tolerance[i] * l.tolerance[i]);
+    }
+    const double scale = double(n) / inverse_sum;
+    for (size_t i = 0; i < n; ++i) l.weight[i] *= scale / (l.tolerance[i] * l.tolerance[i]);
   }
   return l;
 }
@@ -80,10 +94,16 @@ void projections(const double* x, const double* basis, int count, size_t n, doub
 }
 
 // taubin_error on the ball's points already in the leaf's frame (to_local computes them
-// with the same operations), from the terms the leaf can have: a height field of degree d
-// the first bivariate_terms(d) and w (coefficient 1), a general quadric terms 0-5 and
-// 15-18. The other terms only add ±0 to local_poly's sums, so |q| and |∇q|, hence the
-// error, are its to the bit; the sums below are in its order.
+// with the same operations). Where the points have tolerances, a general quadric's mean
+// signed distance over them counts kBiasWeight times against ε0: held to the auxiliary
+// points' distances as well as to the points, it can lie to one side of them all by less
+// than their tolerances (a small label's single quadric swelled it by 0.4 mm), which a
+// height field fitted to the points alone cannot. The error comes from the terms the leaf
+// can have: a height field of degree d the first bivariate_terms(d) and w (coefficient
+// 1), a general quadric terms 0-5 and 15-18. The other terms only add ±0 to local_poly's
+// sums, so |q| and |∇q|, hence the error, are its to the bit; the sums below are in its
+// order.
+constexpr double kBiasWeight = 2;
 double taubin_error_local(const Leaf& leaf, const Local& l) {
   if (leaf.kind == FitKind::kTwoSheets) {  // every term: local_poly itself
     double worst = 0;
@@ -91,7 +111,8 @@ double taubin_error_local(const Leaf& leaf, const Local& l) {
       double q, g[3], h[6];
       local_poly(leaf.coeffs.data(), l.u[i], l.v[i], l.w[i], q, g, h);
       const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-      const double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+      double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+      if (!l.tolerance.empty()) e /= l.tolerance[i];
       worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
     }
     return worst;
@@ -99,7 +120,7 @@ double taubin_error_local(const Leaf& leaf, const Local& l) {
   const double* c = leaf.coeffs.data();
   const bool general = leaf.kind == FitKind::kGeneralQuadric;
   const int degree = general ? 2 : std::clamp<int>(leaf.degree, 1, 4);
-  double worst = 0;
+  double worst = 0, signed_sum = 0, weight_sum = 0;
   for (size_t i = 0; i < l.u.size(); ++i) {
     const double u = l.u[i], v = l.v[i], w = l.w[i];
     const double u2 = u * u, v2 = v * v, uv = u * v;
@@ -129,9 +150,15 @@ double taubin_error_local(const Leaf& leaf, const Local& l) {
       g2 = c[15];
     }
     const double gn = std::sqrt(g0 * g0 + g1 * g1 + g2 * g2);
-    const double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+    double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+    if (general && !l.tolerance.empty()) {
+      signed_sum += gn > 0 ? l.weight[i] * leaf.radius * q / gn : 0;
+      weight_sum += l.weight[i];
+    }
+    if (!l.tolerance.empty()) e /= l.tolerance[i];
     worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
   }
+  if (weight_sum > 0) worst = std::max(worst, kBiasWeight * std::abs(signed_sum) / weight_sum);
   return worst;
 }
 
@@ -144,7 +171,8 @@ double taubin_error(const Leaf& leaf, const Ball& ball, const PointCloud& cloud)
     double q, g[3], h[6];
     local_poly(leaf.coeffs.data(), y.x(), y.y(), y.z(), q, g, h);
     const double gn = std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-    const double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+    double e = gn > 0 ? leaf.radius * std::abs(q) / gn : std::numeric_limits<double>::infinity();
+    if (!cloud.tolerance.empty()) e /= cloud.tolerance[id];
     worst = std::max(worst, std::isfinite(e) ? e : std::numeric_limits<double>::infinity());
   }
   return worst;

@@ -35,7 +35,8 @@ struct AuxPoint {
   double distance;  // estimated signed distance (mm)
 };
 
-// Taubin's first-order distance, max over the ball's points: |Q| / |∇Q| (mm).
+// Taubin's first-order distance |Q| / |∇Q| (mm), each point's divided by its tolerance
+// (PointCloud::tolerance), max over the ball's points.
 double taubin_error(const Leaf& leaf, const Ball& ball, const PointCloud& cloud);
 
 // The B-spline-weighted mean normal of the ball (not normalised).

@@ -43,6 +43,7 @@ void validate(const FitOptions& o) {
   need(std::isfinite(o.alpha) && o.alpha >= 0.5 && o.alpha <= 4, "alpha", "between 0.5 and 4");
   need(std::isfinite(o.lambda) && o.lambda > 0 && o.lambda <= 1, "lambda", "in (0, 1]");
   need(std::isfinite(o.min_radius), "min_radius", "a number (negative: automatic)");
+  need(std::isfinite(o.min_radius_floor) && o.min_radius_floor >= 0, "min_radius_floor", "zero or positive");
   need(o.max_depth >= 0 && o.max_depth <= 16, "max_depth", "between 0 and 16");
   need(o.max_degree >= 2 && o.max_degree <= 4, "max_degree", "2, 3 or 4");
   need(o.grid_cells >= 0 && o.grid_cells <= 512, "grid_cells", "between 0 (automatic) and 512");
@@ -64,7 +65,7 @@ class Fitter {
     // The median distance to the 12th nearest point (about the largest sampling gap), when
     // the smallest radius or the slope length needs it.
     gap12 = opt.min_radius < 0 || opt.fit_normals ? median_spacing(cloud.positions, tree, 12) : 0.0;
-    min_radius = opt.min_radius >= 0 ? opt.min_radius : 1.5 * gap12;
+    min_radius = opt.min_radius >= 0 ? opt.min_radius : std::max(1.5 * gap12, opt.min_radius_floor);
     slope_length = opt.fit_normals ? 0.25 * gap12 : 0.0;
   }
   // The octree, level by level from the root: each cell fitted in parallel, split where

@@ -52,6 +52,10 @@ bool Shape::inside(const Eigen::Vector3d& p) const {
       const double r2 = q.squaredNorm();
       return r2 <= a * a && r2 >= (a - b) * (a - b);
     }
+    case kDisc: {
+      const double rho = std::max(std::hypot(q.x(), q.y()) - a, 0.0);
+      return rho * rho + q.z() * q.z() <= b * b;
+    }
   }
   return false;
 }
@@ -100,6 +104,20 @@ double Shape::distance(const Eigen::Vector3d& p, Eigen::Vector3d* normal, double
       d = outer ? std::abs(r - a) : std::abs(r - inner);
       break;
     }
+    case kDisc: {
+      // The closest point of the flat disc; the surface lies b from it.
+      const double rho = std::hypot(q.x(), q.y());
+      const Eigen::Vector3d on_disc = rho > a ? Eigen::Vector3d(a * q.x() / rho, a * q.y() / rho, 0)
+                                              : Eigen::Vector3d(q.x(), q.y(), 0);
+      const Eigen::Vector3d off = q - on_disc;
+      n = off.norm() > 0 ? Eigen::Vector3d(off.normalized()) : Eigen::Vector3d(0, 0, 1);
+      d = std::abs(off.norm() - b);
+      if (rho > a) {  // the rim: a torus of major radius a, minor b
+        const double cosv = n.dot(Eigen::Vector3d(q.x() / rho, q.y() / rho, 0));
+        k = cosv / (b * (a + b * cosv));
+      }
+      break;
+    }
   }
   if (normal) *normal = rotation * n;
   if (gauss) *gauss = k;
@@ -116,8 +134,23 @@ Eigen::Vector3d Shape::half_extent() const {
     case kTorus: return {a + b, a + b, b};
     case kCapsule: return {a, a, a + b};
     case kShell: return Eigen::Vector3d::Constant(a);
+    case kDisc: return {a + b, a + b, b};
   }
   return Eigen::Vector3d::Zero();
+}
+
+double Shape::volume() const {
+  constexpr double pi = 3.14159265358979323846;
+  switch (kind) {
+    case kEllipsoid: return 4.0 / 3.0 * pi * a * b * c;
+    case kTorus: return 2 * pi * pi * a * b * b;
+    case kCapsule: return pi * a * a * 2 * b + 4.0 / 3.0 * pi * a * a * a;
+    case kShell: return 4.0 / 3.0 * pi * (a * a * a - (a - b) * (a - b) * (a - b));
+    // The slab over the disc, and the rim: half a torus (Pappus: the half disc's area
+    // times the path of its centroid, a + 4b / 3π from the axis).
+    case kDisc: return pi * a * a * 2 * b + pi * pi * a * b * b + 4.0 / 3.0 * pi * b * b * b;
+  }
+  return 0;
 }
 
 double Shape::max_abs_gauss() const {
@@ -127,21 +160,36 @@ double Shape::max_abs_gauss() const {
     case kTorus: return 1 / (b * (a - b));
     case kCapsule: return 1 / (a * a);
     case kShell: return 1 / ((a - b) * (a - b));
+    case kDisc: return 1 / (b * (a + b));
   }
   return 0;
 }
 
-Volume scan(const Shape& s, const Scan& c) {
+namespace {
+
+// The volume's grid over the shape with the scan's margin, a fraction of a voxel off so
+// that no symmetry plane of the shape falls on it.
+Volume grid_over(const Shape& s, const Scan& c) {
   Volume v;
   v.spacing = c.spacing;
-  v.modality = "CT";
   v.source = "phantom";
   const Eigen::Vector3d half = s.rotation.cwiseAbs() * s.half_extent() + Eigen::Vector3d::Constant(c.margin_mm);
   const Eigen::Vector3d lo = s.centre - half;
   for (int d = 0; d < 3; ++d) v.dims[size_t(d)] = int64_t(std::ceil(2 * half[d] / c.spacing[d])) + 1;
-  // A fraction of a voxel off, so that no symmetry plane of the shape falls on the grid.
   v.origin = lo + Eigen::Vector3d(0.37 * c.spacing.x(), 0.21 * c.spacing.y(), 0.43 * c.spacing.z());
   v.voxels.assign(size_t(v.voxel_count()), 0.0f);
+  return v;
+}
+
+Eigen::Matrix3d tilt(double degrees, Eigen::Vector3d axis) {
+  return Eigen::AngleAxisd(degrees * 3.14159265358979 / 180, axis.normalized()).toRotationMatrix();
+}
+
+}  // namespace
+
+Volume scan(const Shape& s, const Scan& c) {
+  Volume v = grid_over(s, c);
+  v.modality = "CT";
   const int nx = c.sub_xy, nz = c.sub_z;
   tbb::parallel_for(int64_t(0), v.dims[2], [&](int64_t k) {
     for (int64_t j = 0; j < v.dims[1]; ++j)
@@ -164,10 +212,31 @@ Volume scan(const Shape& s, const Scan& c) {
   return v;
 }
 
+
+Volume label_scan(const Shape& s, const Scan& c, int label) {
+  Volume v = grid_over(s, c);
+  tbb::parallel_for(int64_t(0), v.dims[2], [&](int64_t k) {
+    for (int64_t j = 0; j < v.dims[1]; ++j)
+      for (int64_t i = 0; i < v.dims[0]; ++i)
+        if (s.inside(v.index_to_physical(Eigen::Vector3d(double(i), double(j), double(k)))))
+          v.voxels[size_t(v.index(i, j, k))] = float(label);
+  });
+  return v;
+}
+
+std::vector<Phantom> label_suite() {
+  std::vector<Phantom> out;
+  Phantom e{"ellipsoid", {Shape::kEllipsoid, 26, 19, 13, tilt(25, {1, 1, 0.3}), {1.3, -0.7, 0.4}}, {}};
+  e.scan.spacing = {0.7, 0.7, 2.0};
+  Phantom t{"torus", {Shape::kTorus, 18, 7, 0, tilt(30, {1, 0.4, 0.2}), {-0.4, 0.9, 0.2}}, {}};
+  t.scan.spacing = {0.6, 0.6, 1.8};
+  Phantom d{"disc", {Shape::kDisc, 16, 6, 0, tilt(20, {0.3, 1, 0.2}), {0.6, 0.2, -0.8}}, {}};
+  d.scan.spacing = {0.7, 0.7, 1.6};
+  for (Phantom* p : {&e, &t, &d}) p->scan.noise_hu = 0;
+  return {e, t, d};
+}
+
 std::vector<Phantom> suite() {
-  auto tilt = [](double degrees, Eigen::Vector3d axis) {
-    return Eigen::AngleAxisd(degrees * 3.14159265358979 / 180, axis.normalized()).toRotationMatrix();
-  };
   std::vector<Phantom> out;
   Phantom e{"ellipsoid", {Shape::kEllipsoid, 30, 21, 15, tilt(25, {1, 1, 0.3}), {1.3, -0.7, 0.4}}, {}};
   e.scan.spacing = {0.5, 0.5, 1.5};

@@ -16,11 +16,12 @@
 namespace mpumesh::phantom {
 
 struct Shape {
-  enum Kind { kEllipsoid, kTorus, kCapsule, kShell } kind = kEllipsoid;
+  enum Kind { kEllipsoid, kTorus, kCapsule, kShell, kDisc } kind = kEllipsoid;
   // Ellipsoid: semi-axes a, b, c. Torus about local z: major radius a, minor b.
   // Capsule along local z: radius a, cylinder half-length b. Shell: outer radius a,
   // thickness b (two surfaces: the outer sphere and the inner one, normals out of the
-  // material).
+  // material). Disc: the points within b of a flat disc of radius a in the local xy
+  // plane (two flat faces joined by a half-torus rim: flat and curved parts).
   double a = 20, b = 20, c = 20;
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // local to world
   Eigen::Vector3d centre{0, 0, 0};
@@ -34,6 +35,8 @@ struct Shape {
   Eigen::Vector3d half_extent() const;
   // The largest |K| on the surface (for errors relative to it).
   double max_abs_gauss() const;
+  // The enclosed volume (mm³).
+  double volume() const;
   // For the capsule: whether the closest surface point lies on a cap (else the barrel).
   bool on_cap(const Eigen::Vector3d& p) const;
 };
@@ -60,5 +63,14 @@ struct Phantom {
 // across, tilted against the slices; in-plane pixels of 0.5-0.7 mm, slices 3-3.6 times
 // thicker, noise of 40-60 HU at 1000 HU contrast.
 std::vector<Phantom> suite();
+
+// A label map of the shape, as a segmentation gives one: every voxel holds `label` where
+// its centre lies inside the shape, else 0 (no partial volume, no noise).
+Volume label_scan(const Shape& s, const Scan& c, int label = 1);
+
+// The label-map suite: an ellipsoid, a torus and a disc (flat faces, a rounded rim), 40-60
+// mm across, tilted against the slices; in-plane pixels of 0.6-0.7 mm, slices 2-3 times
+// thicker.
+std::vector<Phantom> label_suite();
 
 }  // namespace mpumesh::phantom

@@ -1,6 +1,7 @@
 #include "phantom/truth_figures.h"
 
 #include "geometry/angle.h"
+#include "mesh/slice_phase.h"
 #include "particles/spacing_stats.h"
 
 #include <tbb/parallel_for.h>
@@ -48,7 +49,7 @@ std::vector<double> discrete_gauss(const TriangleMesh& m) {
 
 }  // namespace
 
-TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
+TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape, const Volume* scan) {
   TruthFigures f;
   const size_t nv = m.vertices.size(), nt = m.triangles.size();
   f.vertices = int64_t(nv), f.triangles = int64_t(nt);
@@ -94,6 +95,13 @@ TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape) {
   std::vector<double> low, high;
   for (size_t i = 0; i < tenth; ++i) low.push_back(spacing[o[i]]), high.push_back(spacing[o[nv - 1 - i]]);
   f.spacing_high_low = median(high) / std::max(1e-12, median(low));
+
+  double volume = 0;
+  for (const auto& t : m.triangles) volume += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
+  f.volume_error = volume / shape.volume() - 1;
+  if (scan)
+    f.slice_modulation =
+        slice_phase(m, scan->origin, scan->direction.col(2).normalized(), scan->spacing.z()).modulation;
 
   if (shape.kind == Shape::kCapsule) {
     std::vector<double> kc, kb, sc, sb;

@@ -10,6 +10,7 @@
 
 #include "geometry/triangle_mesh.h"
 #include "phantom/ct_phantom.h"
+#include "volume/volume.h"
 
 namespace mpumesh::phantom {
 
@@ -24,8 +25,12 @@ struct TruthFigures {
   double spacing_rank = 0;                         // Spearman of spacing with the true |K|
   // Capsule only: the parts' median K (1/mm²) and spacing (mm).
   double cap_gauss = 0, barrel_gauss = 0, cap_spacing = 0, barrel_spacing = 0;
+  double volume_error = 0;  // (enclosed volume - the shape's) / the shape's
+  // With the scan's grid: the slice-phase modulation of |H| (mesh/slice_phase.h).
+  double slice_modulation = 0;
 };
 
-TruthFigures truth_figures(const TriangleMesh& mesh, const Shape& shape);
+// `scan`, when given, is the volume the mesh was made from (its slices' geometry).
+TruthFigures truth_figures(const TriangleMesh& mesh, const Shape& shape, const Volume* scan = nullptr);
 
 }  // namespace mpumesh::phantom

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <tuple>
 #include <type_traits>
 
 #include "common/error.h"
@@ -16,6 +17,7 @@
 #include "io/volume_io.h"
 #include "common/kd_tree.h"
 #include "mc/marching_cubes.h"
+#include "mesh/slice_phase.h"
 #include "mesh/surface_attributes.h"
 #include "mesh/topology.h"
 #include "mesh/voxel_grid.h"
@@ -54,6 +56,12 @@ struct Run {
   // finest spacing this is; the fit's tolerance then follows the points (set_tolerance).
   double tolerance_pixel = 0;
   std::optional<Eigen::Vector3d> tolerance_grid{};  // the voxel grid a mesh's vertices lie on
+  // A label map's grid, when the tolerance follows the scan: each point's tolerance then
+  // follows it (mpu::set_label_map_tolerance).
+  std::optional<mpu::LabelGrid> label_grid{};
+  // A label map's slices (a plane through a slice's centres, its normal, the spacing), for
+  // the result's slice-phase modulation.
+  std::optional<std::tuple<Eigen::Vector3d, Eigen::Vector3d, double>> label_slices{};
 };
 
 // Too sparse a sample for the surface's thin plates shows as many repair points, and its
@@ -107,6 +115,7 @@ void use_label(Derived& d) {
   d.segment.threshold = mc::ThresholdRange{0.5};
   d.points.caps_to_field_crossing = true;
   d.points.partial_volume_caps = false;  // a label map has no partial volume
+  d.points.curved_caps = true;
 }
 
 // A volume to its slice points; the fit's tolerance and the default count follow the scan.
@@ -125,6 +134,12 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
   run.r.derived.sample_source.voxel_size = vol.in_plane_spacing();  // the default count follows it
   // No eps given: the tolerance follows the scan (set_tolerance).
   if (!(run.opt.fit.eps > 0)) run.tolerance_pixel = vol.in_plane_spacing();
+  if (run.opt.label > 0) {
+    run.label_slices = {vol.origin, vol.direction.col(2).normalized(), vol.spacing.z()};
+    run.r.derived.fit.min_radius_floor = mpu::kLabelMinRadiusSlices * vol.spacing.z();
+  }
+  if (run.tolerance_pixel > 0 && run.opt.label > 0)
+    run.label_grid = mpu::LabelGrid{vol.direction.col(2).normalized(), vol.in_plane_spacing(), vol.spacing.z()};
   run.voxels = vol.voxel_count();
   run.r.input.volume = VolumeInput{vol.dims, vol.spacing, vol.modality, vol.read_notes};
   run.r.segmentation = seg::summarize(s);
@@ -137,7 +152,7 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
 
 // The fit's tolerance from the points' scatter (mpu/fit_tolerance.h), for the points of a
 // scan or a voxel-grid mesh when no eps was given.
-void set_tolerance(Run& run, const PointCloud& cloud, const KdTree& index) {
+void set_tolerance(Run& run, PointCloud& cloud, const KdTree& index) {
   mpu::Tolerance& t = run.r.derived.tolerance;
   t = mpu::volume_tolerance(cloud, run.tolerance_pixel, &index);
   if (const auto& grid = run.tolerance_grid) {
@@ -148,6 +163,12 @@ void set_tolerance(Run& run, const PointCloud& cloud, const KdTree& index) {
                    : fmt::format("the finest spacing of {}; the vertices' scatter is {:.3f} mm", on_grid, t.noise);
   }
   run.r.derived.fit.eps = t.eps;
+  if (run.label_grid) {
+    run.r.derived.label_tolerance = mpu::set_label_map_tolerance(cloud, index, *run.label_grid, t.eps);
+    t.source += fmt::format("; label map: each point's tolerance {} grid steps along its normal (median {:.2f} x "
+                            "this), less across plates and gaps thinner than that",
+                            mpu::kLabelSteps, run.r.derived.label_tolerance->median_factor);
+  }
 }
 
 // Particles and their restricted Delaunay triangulation, sampled again with kRaise times
@@ -323,6 +344,10 @@ void measure_and_fill(Run& run) {
   const RunOptions& options = run.opt;
   if (options.quality) r.quality = stage(run.obs, "quality", [&] { return measure_quality(r.mesh, *options.quality); });
   if (options.spacing_figures) r.spacing = particles::spacing_summary(r.sample, r.particles);
+  if (const auto& sl = run.label_slices)
+    r.slice_phase = stage(run.obs, "slice phase", [&] {
+      return slice_phase(r.mesh, std::get<0>(*sl), std::get<1>(*sl), std::get<2>(*sl));
+    });
   if (options.volume_mesh) {
     VolumeMeshResult v;
     v.options = *options.volume_mesh;
@@ -344,7 +369,7 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   Run run{input, options, open_backend, obs, r};
   start_derived(r.derived, options);
   r.input.path = scan ? scan->source : input;  // the file, without the label
-  const PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run, *mesh);
+  PointCloud cloud = scan ? points_from_volume(run, *scan) : points_from_mesh(run, *mesh);
   r.points = cloud.size();
   // One k-d tree over the points for the noise estimate, the fit and the sampling's pool.
   const PointIndex index(cloud.positions);

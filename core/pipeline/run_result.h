@@ -22,6 +22,7 @@
 #include "mesh/mesh_optimize.h"
 #include "mesh/quality.h"
 #include "mesh/restricted_delaunay.h"
+#include "mesh/slice_phase.h"
 #include "mpu/fit_tolerance.h"
 #include "mpu/mpu_fit.h"
 #include "mpu/mpu_surface.h"
@@ -70,6 +71,8 @@ struct Derived {
   mpu::FitOptions fit;          // as used: eps the fit's tolerance
   // Where eps came from: the rule and the figures that set it (tolerance.source), or given.
   mpu::Tolerance tolerance;
+  // A label map's points: their tolerances along their normals (mpu/fit_tolerance.h).
+  std::optional<mpu::LabelTolerance> label_tolerance;
   bool eps_given = false;
   particles::SampleSource sample_source;
   particles::SampleOptions sample;  // of the last sampling (after any raise)
@@ -107,6 +110,7 @@ struct RunResult {
   TriangleMesh mesh;
   std::optional<ComponentsKept> components;  // when a filter was applied
   std::optional<Quality> quality;            // RunOptions::quality
+  std::optional<SlicePhase> slice_phase;     // a label map's: |H| by the phase within its slices
   std::optional<VolumeMeshResult> volume;    // RunOptions::volume_mesh
   bool sparse = false;  // still too sparse after the last sampling
   // The reader's notes, then, when sparse, the note that says so (the last). Options are

@@ -184,6 +184,14 @@ class CapBuilder {
     return sum / double(count);
   }
   double partial_volume_rise(const SliceMaps& from, const SliceMaps& to, int64_t i, int64_t j) const;
+  // Pixel p's signed in-plane distance to slice m's contour (mm; positive inside), or NaN
+  // when the slice holds no region.
+  double signed_distance(SliceMaps& m, int64_t p) const {
+    if (m.mask[size_t(p)]) return std::sqrt(double(outside_d2(m)[size_t(p)])) - half_pixel_;
+    const double d = double(region_d2(m)[size_t(p)]);
+    return std::isinf(d) ? std::nan("") : -(std::sqrt(d) - half_pixel_);
+  }
+  double curved_rise(SliceMaps& behind, SliceMaps* behind2, int64_t p, double d_from, double d_to) const;
   bool any_cap(const SliceMaps& from, const SliceMaps& to) const;
   void add_caps(SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) const;
 
@@ -224,6 +232,47 @@ double CapBuilder::partial_volume_rise(const SliceMaps& from, const SliceMaps& t
   return std::clamp((g_from + g_to - 2 * g_out) / contrast - 0.5, 0.0, 1.0);
 }
 
+// The zero between 0 and 1 of the parabola through (t, d) for t = t0, t0 + 1, t0 + 2, the
+// one nearest `guess`; `guess` when there is none.
+double parabola_zero(double t0, const std::array<double, 3>& d, double guess) {
+  // d(t) = d1 + b (t - t1) + a (t - t1)², t1 = t0 + 1.
+  const double t1 = t0 + 1, b = 0.5 * (d[2] - d[0]), a = 0.5 * (d[2] + d[0]) - d[1];
+  if (!std::isfinite(a) || !std::isfinite(b)) return guess;
+  double best = guess, best_gap = INFINITY;
+  auto consider = [&](double u) {
+    const double t = t1 + u;
+    if (t >= 0 && t <= 1 && std::abs(t - guess) < best_gap) best = t, best_gap = std::abs(t - guess);
+  };
+  if (std::abs(a) < 1e-9 * (std::abs(b) + 1e-12)) {
+    if (b != 0) consider(-d[1] / b);
+    return best;
+  }
+  const double disc = b * b - 4 * a * d[1];
+  if (disc < 0) return guess;
+  consider((-b + std::sqrt(disc)) / (2 * a));
+  consider((-b - std::sqrt(disc)) / (2 * a));
+  return best;
+}
+
+// Label maps: the height where the in-plane signed distance to the slices' contours,
+// as a parabola in z through the slice behind `from`, `from` and `to`, crosses zero (the
+// ruled surface is that distance linear in z, a chord inside every convex dome); where
+// `to` holds no region (a dome top), the parabola through the two slices behind and
+// `from`, extrapolated.
+double CapBuilder::curved_rise(SliceMaps& behind, SliceMaps* behind2, int64_t p, double d_from, double d_to) const {
+  const double db = signed_distance(behind, p);
+  if (std::isfinite(d_to)) {
+    const double linear = d_from / (d_from + d_to);
+    if (std::isnan(db)) return linear;
+    return parabola_zero(-1, {db, d_from, -d_to}, linear);
+  }
+  const double dome = 0.5 * std::min(1.0, d_from / g_.sz);
+  if (!behind2 || std::isnan(db)) return dome;
+  const double db2 = signed_distance(*behind2, p);
+  if (std::isnan(db2)) return dome;
+  return parabola_zero(-2, {db2, db, d_from}, dome);
+}
+
 // Whether any pixel inside `from` and outside `to` lies a slice spacing or more from
 // `to`'s region (a disk test on the few changed pixels, before any distance transform).
 bool CapBuilder::any_cap(const SliceMaps& from, const SliceMaps& to) const {
@@ -253,13 +302,21 @@ void CapBuilder::add_caps(SliceMaps& from, SliceMaps& to, double dir, Part& part
   const auto& d_region = region_d2(to);
   const auto& d_edge = outside_d2(from);
   const double z_from = double(from.pk - 1);
+  // The slices behind `from` (away from `to`), for curved caps.
+  const int64_t step = to.pk - from.pk;
+  SliceMaps behind, behind2;
+  const bool curved = opt_.curved_caps && from.pk - step >= 0 && from.pk - step <= g_.nz + 1;
+  const bool curved2 = curved && from.pk - 2 * step >= 0 && from.pk - 2 * step <= g_.nz + 1;
+  if (curved) load(behind, from.pk - step);
+  if (curved2) load(behind2, from.pk - 2 * step);
   for (int64_t j = 0; j < g_.py; ++j)
     for (int64_t i = 0; i < g_.px; ++i) {
       const int64_t p = i + g_.px * j;
       if (!from.mask[size_t(p)] || d_region[size_t(p)] < min_sq_) continue;
       const double d_from = std::max(std::sqrt(double(d_edge[size_t(p)])) - half_pixel_, 0.0);
       const double d_to = std::sqrt(double(d_region[size_t(p)])) - half_pixel_;
-      double rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / g_.sz) : d_from / (d_from + d_to);
+      double rise = curved ? curved_rise(behind, curved2 ? &behind2 : nullptr, p, d_from, d_to)
+                     : std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / g_.sz) : d_from / (d_from + d_to);
       const double pv = opt_.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
       if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
       if (opt_.caps_to_field_crossing) {

@@ -44,6 +44,10 @@ struct PointOptions {
   // the mid-plane and the ruled height stays. Set for label maps only: an intensity's
   // linear crossing is no height.
   bool caps_to_field_crossing = false;
+  // Cap heights where the in-plane signed distance to the slices' contours, a parabola in
+  // z through three slices, crosses zero (slice_points.cpp, curved_rise), not a chord
+  // between two: for label maps, which have no partial volume.
+  bool curved_caps = false;
   // PCA radius: max(radius_slices * slice spacing, radius_pixels * in-plane spacing).
   double radius_slices = 1.5;
   double radius_pixels = 3.0;

@@ -102,7 +102,7 @@ TEST_F(Labels, TouchingLabelsMeetWithoutCrossing) {
   });
   const double sphere = mean_gap(core, nest, [](const Eigen::Vector3d&) { return true; });
   for (const double gap : {cut, sphere}) {
-    EXPECT_GT(gap, 0.1);
+    EXPECT_GT(gap, 0.05);
     EXPECT_LT(gap, 0.8);
   }
   // The core lies in the nest's cavity: the nest is two shells, the inner one facing in.

@@ -16,7 +16,6 @@
 // "{px}" stands for the in-plane pixel size and "{2.5px}" for 2.5 times it.
 #include <fmt/format.h>
 
-#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +23,7 @@
 #include <regex>
 
 #include "cgal_mesh3_peer.h"
+#include "truth_rows.h"
 #include "io/mesh_io.h"
 #include "io/read_file.h"
 #include "io/volume_io.h"
@@ -31,31 +31,6 @@
 #include "phantom/truth_figures.h"
 
 using namespace mpumesh;
-
-namespace {
-
-using Clock = std::chrono::steady_clock;
-double sec_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double timed_system(const std::string& cmd) {
-  const auto t0 = Clock::now();
-  if (std::system(cmd.c_str()) != 0) {
-    std::fprintf(stderr, "bench_truth: failed: %s\n", cmd.c_str());
-    std::exit(1);
-  }
-  return sec_since(t0);
-}
-
-void print_row(const std::string& name, const phantom::TruthFigures& f, double seconds) {
-  fmt::print("  {:<16} {:>7} {:>7.3f} {:>6.3f} {:>7.2f} {:>6.2f} {:>7.3f}{} {:>7.3f} {:>7.2f} {:>7.2f} {:>7.1f}\n", name,
-             f.triangles, f.distance_mean, f.distance_p99, f.normal_mean_deg, f.normal_p95_deg, f.gauss_rank,
-             f.curvature_from_file ? "f" : "d", f.gauss_median_error, f.spacing_high_low, f.spacing_rank, seconds);
-  if (f.cap_spacing > 0)
-    fmt::print("  {:<16} caps K {:.5f}, barrel K {:.5f} (1/mm2); spacing caps {:.3f} mm, barrel {:.3f} mm ({:.2f})\n",
-               "", f.cap_gauss, f.barrel_gauss, f.cap_spacing, f.barrel_spacing, f.cap_spacing / f.barrel_spacing);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   const std::string backend = argc > 1 ? argv[1] : "cpu";
@@ -84,35 +59,26 @@ int main(int argc, char** argv) {
     for (std::smatch m; std::regex_search(extra, m, std::regex(R"(\{([0-9.]*)px\})"));)
       extra.replace(size_t(m.position(0)), size_t(m.length(0)),
                     fmt::format("{:.3f}", (m[1].length() ? std::stod(m[1]) : 1.0) * vol.in_plane_spacing()));
-    const double t_ours = timed_system(fmt::format("{} run {} --threshold {} --backend {} --quiet -o {} --surface {} "
+    const double t_ours = bench::timed_system(fmt::format("{} run {} --threshold {} --backend {} --quiet -o {} --surface {} "
                                                    "--report {} {}",
                                                    bin, nii, iso, backend, ours, surf, (dir / "ours.json").string(),
                                                    extra));
-    const double t_mc = timed_system(fmt::format("{} mc {} --threshold {} --backend {} --quiet -o {}", bin, nii, iso,
+    const double t_mc = bench::timed_system(fmt::format("{} mc {} --threshold {} --backend {} --quiet -o {}", bin, nii, iso,
                                                  backend, mc));
-    const double t_mpu = timed_system(fmt::format("{} polygonize {} --backend {} --quiet -o {}", bin, surf, backend, mpu));
+    const double t_mpu = bench::timed_system(fmt::format("{} polygonize {} --backend {} --quiet -o {}", bin, surf, backend, mpu));
     const TriangleMesh our_mesh = read_mesh(ours);
     const phantom::TruthFigures f_ours = phantom::truth_figures(our_mesh, ph.shape);
-    // Mesh_3 at our count: triangles go as 1 / size², so one correction after a first try.
     bench::Mesh3Params m3;
     m3.iso = iso;
-    double edge = 0;
-    for (const auto& t : our_mesh.triangles) edge += (our_mesh.vertices[t[0]] - our_mesh.vertices[t[1]]).norm();
-    m3.facet_size = 1.2 * edge / double(std::max<size_t>(1, our_mesh.triangles.size()));
-    m3.facet_distance = 0.2 * m3.facet_size;
-    bench::Mesh3Result cg = bench::cgal_mesh3(vol, m3);
-    m3.facet_size *= std::sqrt(double(cg.mesh.triangles.size()) / double(our_mesh.triangles.size()));
-    m3.facet_distance = 0.2 * m3.facet_size;
-    cg = bench::cgal_mesh3(vol, m3);
+    const bench::Mesh3Result cg = bench::cgal_mesh3_matching(vol, m3, our_mesh);
     const std::string m3_path = (dir / "mesh3.ply").string();
     write_mesh(cg.mesh, m3_path);
     const auto report = nlohmann::json::parse(read_file((dir / "ours.json").string()));
     fmt::print("  ours: fit tolerance {:.3f} mm ({}); Mesh_3 facet size {:.2f} mm, distance {:.2f} mm\n",
                report["fit"].value("eps_mm", 0.0), report["fit"].value("eps_source", std::string("-")), m3.facet_size,
                m3.facet_distance);
-    fmt::print("  {:<16} {:>7} {:>7} {:>6} {:>7} {:>6} {:>8} {:>7} {:>7} {:>7} {:>7}\n", "mesh", "tris", "dist", "p99",
-               "normal", "p95", "K rank", "K err", "sp h/l", "sp rank", "s");
-    print_row("ours", f_ours, t_ours);
+    bench::print_truth_header(false);
+    bench::print_truth_row("ours", f_ours, t_ours, false);
     // Our triangles with their vertices moved onto the true surface: the normal error that
     // the triangle count and shape leave with a perfect fit.
     TriangleMesh on_truth = our_mesh;
@@ -120,9 +86,9 @@ int main(int argc, char** argv) {
     const phantom::TruthFigures f_floor = phantom::truth_figures(on_truth, ph.shape);
     fmt::print("  {:<16} {:>7} {:>7} {:>6} {:>7.2f} {:>6.2f}\n", "ours on truth", f_floor.triangles, "", "",
                f_floor.normal_mean_deg, f_floor.normal_p95_deg);
-    print_row("marching cubes", phantom::truth_figures(read_mesh(mc), ph.shape), t_mc);
-    print_row("CGAL Mesh_3", phantom::truth_figures(read_mesh(m3_path), ph.shape), cg.seconds);
-    print_row("original MPU", phantom::truth_figures(read_mesh(mpu), ph.shape), t_mpu);
+    bench::print_truth_row("marching cubes", phantom::truth_figures(read_mesh(mc), ph.shape), t_mc, false);
+    bench::print_truth_row("CGAL Mesh_3", phantom::truth_figures(read_mesh(m3_path), ph.shape), cg.seconds, false);
+    bench::print_truth_row("original MPU", phantom::truth_figures(read_mesh(mpu), ph.shape), t_mpu, false);
     std::fflush(stdout);
   }
   return 0;

@@ -8,6 +8,7 @@
 #include <CGAL/make_mesh_3.h>
 #include <CGAL/Image_3.h>
 #include <CGAL/Mesh_3/initialize_triangulation_from_gray_image.h>
+#include <CGAL/Mesh_3/initialize_triangulation_from_labeled_image.h>
 
 #include <chrono>
 #include <cmath>
@@ -44,6 +45,26 @@ CGAL::Image_3 padded_image(const Volume& v, float background) {
   return CGAL::Image_3(im);
 }
 
+// The label map padded by one voxel of background (0), as an 8-bit CGAL image in the
+// same frame as padded_image.
+CGAL::Image_3 padded_labels(const Volume& v) {
+  const int64_t nx = v.dims[0] + 2, ny = v.dims[1] + 2, nz = v.dims[2] + 2;
+  _image* im = ::_createImage(std::size_t(nx), std::size_t(ny), std::size_t(nz), 1, v.spacing.x(), v.spacing.y(),
+                              v.spacing.z(), 1, WK_FIXED, SGN_UNSIGNED);
+  unsigned char* d = static_cast<unsigned char*>(im->data);
+  for (int64_t k = 0; k < nz; ++k)
+    for (int64_t j = 0; j < ny; ++j)
+      for (int64_t i = 0; i < nx; ++i) {
+        const bool in = i >= 1 && j >= 1 && k >= 1 && i <= v.dims[0] && j <= v.dims[1] && k <= v.dims[2];
+        const float x = in ? v.at(i - 1, j - 1, k - 1) : 0.f;
+        d[i + nx * (j + ny * k)] = static_cast<unsigned char>(std::clamp(std::lround(x), 0L, 255L));
+      }
+  im->tx = float(-v.spacing.x());
+  im->ty = float(-v.spacing.y());
+  im->tz = float(-v.spacing.z());
+  return CGAL::Image_3(im);
+}
+
 }  // namespace
 
 Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
@@ -52,11 +73,12 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
   float lo = v.voxels.empty() ? 0.f : v.voxels[0];
   for (float x : v.voxels) lo = std::min(lo, x);
   const float background = std::min(lo, float(p.iso - 1000));
-  const CGAL::Image_3 image = padded_image(v, background);
+  const CGAL::Image_3 image = p.labels ? padded_labels(v) : padded_image(v, background);
   // CGAL's gray-image domain: trilinear interpolation of the image, inside where the
-  // value exceeds iso.
-  Domain domain = Domain::create_gray_image_mesh_domain(image, CGAL::parameters::iso_value = p.iso,
-                                                        CGAL::parameters::value_outside = background);
+  // value exceeds iso; or its labelled-image domain: the label of the voxel a point lies in.
+  Domain domain = p.labels ? Domain::create_labeled_image_mesh_domain(image)
+                           : Domain::create_gray_image_mesh_domain(image, CGAL::parameters::iso_value = p.iso,
+                                                                   CGAL::parameters::value_outside = background);
   Criteria criteria =
       p.cell_size > 0
           ? Criteria(CGAL::parameters::facet_angle = p.facet_angle, CGAL::parameters::facet_size = p.facet_size,
@@ -72,7 +94,10 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
   {
     std::ostringstream muted;
     std::streambuf* saved = std::cout.rdbuf(muted.rdbuf());
-    initialize_triangulation_from_gray_image(c3t3, domain, image, criteria, float(p.iso), float());
+    if (p.labels)
+      initialize_triangulation_from_labeled_image(c3t3, domain, image, criteria, static_cast<unsigned char>(0));
+    else
+      initialize_triangulation_from_gray_image(c3t3, domain, image, criteria, float(p.iso), float());
     std::cout.rdbuf(saved);
   }
   r.initial_points = int64_t(c3t3.triangulation().number_of_vertices());
@@ -136,6 +161,18 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
   if (vol < 0)
     for (auto& t : r.mesh.triangles) std::swap(t[1], t[2]);
   return r;
+}
+
+Mesh3Result cgal_mesh3_matching(const Volume& v, Mesh3Params& p, const TriangleMesh& ours) {
+  double edge = 0;
+  for (const auto& t : ours.triangles) edge += (ours.vertices[t[0]] - ours.vertices[t[1]]).norm();
+  const double count = double(std::max<size_t>(1, ours.triangles.size()));
+  p.facet_size = 1.2 * edge / count;
+  p.facet_distance = 0.2 * p.facet_size;
+  const Mesh3Result first = cgal_mesh3(v, p);
+  p.facet_size *= std::sqrt(double(first.mesh.triangles.size()) / count);
+  p.facet_distance = 0.2 * p.facet_size;
+  return cgal_mesh3(v, p);
 }
 
 }  // namespace mpumesh::bench

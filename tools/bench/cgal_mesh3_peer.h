@@ -14,6 +14,9 @@ namespace mpumesh::bench {
 
 struct Mesh3Params {
   double iso = 226;
+  // A label map instead (labels 1-255, background 0): CGAL's labelled-image domain and
+  // its initialisation for labelled images; iso is not used.
+  bool labels = false;
   double facet_angle = 30, facet_size = 3.4, facet_distance = 0.72;
   // A volume mesh too: cell_size > 0 adds the cell criteria (that size, radius-edge ratio
   // 3), then CGAL's sliver perturbation and exudation.
@@ -28,5 +31,10 @@ struct Mesh3Result {
 };
 
 Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p);
+
+// Mesh_3 with its facet size set so that it makes about as many triangles as `ours`
+// (distance 0.2 × the size): a first size from our mean edge, one correction, since the
+// count goes as 1 / size². `p` returns the size and distance used.
+Mesh3Result cgal_mesh3_matching(const Volume& v, Mesh3Params& p, const TriangleMesh& ours);
 
 }  // namespace mpumesh::bench

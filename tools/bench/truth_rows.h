@@ -1,0 +1,19 @@
+// The truth benchmarks' shared parts: a product command timed as a user runs it, and the
+// table of figures against the analytic truth (core/phantom/truth_figures.h), one row per
+// mesh.
+#pragma once
+
+#include <string>
+
+#include "phantom/truth_figures.h"
+
+namespace mpumesh::bench {
+
+// Runs `cmd` through the shell; exits the benchmark when it fails. Seconds.
+double timed_system(const std::string& cmd);
+
+// The header and a row. `slices`: with the volume and slice-phase columns.
+void print_truth_header(bool slices);
+void print_truth_row(const std::string& name, const phantom::TruthFigures& f, double seconds, bool slices);
+
+}  // namespace mpumesh::bench
