@@ -9,6 +9,7 @@
 namespace mpumesh::bench {
 
 double timed_system(const std::string& cmd) {
+  std::fflush(nullptr);  // what is printed comes before the child's output, once
   const auto t0 = std::chrono::steady_clock::now();
   if (std::system(cmd.c_str()) != 0) {
     std::fprintf(stderr, "benchmark: failed: %s\n", cmd.c_str());
