@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 namespace mpumesh::tools {
 
 void add_component_options(CLI::App* cmd, ComponentOptions& f) {
@@ -19,8 +21,12 @@ nlohmann::json components_json(const ComponentOptions& f, int64_t kept, const st
     d.push_back({{"triangles", c.triangles},
                  {"vertices", c.vertices},
                  {"volume_mm3", c.volume_mm3},
+                 {"area_mm2", c.area_mm2},
+                 {"thin", c.thin},
                  {"centre_mm", {c.centre.x(), c.centre.y(), c.centre.z()}}});
-  return {{"largest", f.largest}, {"min_volume_mm3", f.min_volume_mm3}, {"kept", kept}, {"dropped", d}};
+  const auto thin = std::count_if(dropped.begin(), dropped.end(), [](const DroppedComponent& c) { return c.thin; });
+  return {{"largest", f.largest},   {"min_volume_mm3", f.min_volume_mm3}, {"min_thickness_mm", f.min_thickness_mm},
+          {"kept", kept},           {"dropped", d},                       {"thin_dropped", thin}};
 }
 
 std::string components_text(int64_t kept, const std::vector<DroppedComponent>& dropped) {

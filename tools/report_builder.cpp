@@ -73,6 +73,11 @@ void add_components(report::HtmlPage& page, const ComponentOptions& filter, cons
   if (filter.min_volume_mm3 > 0) text += fmt::format(" of at least {:.1f} mm3", filter.min_volume_mm3);
   text += ")";
   text += fmt::format("; dropped {}", c.dropped.size());
+  const auto thin = std::count_if(c.dropped.begin(), c.dropped.end(), [](const DroppedComponent& d) { return d.thin; });
+  if (thin > 0)
+    text += fmt::format(" ({} of them thinner on average than {:.3f} mm: sheets folded onto themselves, specks "
+                        "under the fit's tolerance)",
+                        thin, filter.min_thickness_mm);
   for (size_t i = 0; i < c.dropped.size() && i < 5; ++i)
     text += fmt::format("{} {:.1f} mm3 ({} triangles)", i == 0 ? ":" : ",", c.dropped[i].volume_mm3,
                         c.dropped[i].triangles);

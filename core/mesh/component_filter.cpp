@@ -17,6 +17,7 @@ namespace {
 struct Component {
   std::vector<uint32_t> triangles;
   double volume = 0;                  // signed
+  double area = 0;
   int32_t shell = -1;                 // for a cavity: the enclosing shell
   std::vector<int32_t> cavities;      // for a shell
 };
@@ -43,6 +44,7 @@ std::vector<Component> components_of(const TriangleMesh& m) {
     k.triangles.push_back(f);
     const auto& t = m.triangles[f];
     k.volume += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6.0;
+    k.area += 0.5 * (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm();
   }
   // Each cavity to the smallest shell that holds one of its vertices: the cavities in
   // parallel (each ray test scans a shell's triangles), then listed with their shells in
@@ -73,11 +75,18 @@ FilteredMesh filter_components(const TriangleMesh& m, const ComponentOptions& fi
     for (int32_t q : c[k].cavities) v += c[size_t(q)].volume;
     return v;
   };
+  auto area = [&](size_t k) {
+    double a = c[k].area;
+    for (int32_t q : c[k].cavities) a += c[size_t(q)].area;
+    return a;
+  };
   std::stable_sort(shells.begin(), shells.end(), [&](size_t a, size_t b) { return net(a) > net(b); });
   std::vector<char> keep_triangle(m.triangles.size(), 0);
   for (size_t r = 0; r < shells.size(); ++r) {
     const size_t k = shells[r];
-    const bool keep = (filter.largest <= 0 || int64_t(r) < filter.largest) && net(k) >= filter.min_volume_mm3;
+    const bool sized = (filter.largest <= 0 || int64_t(r) < filter.largest) && net(k) >= filter.min_volume_mm3;
+    const bool sheet = 2 * net(k) < filter.min_thickness_mm * area(k);
+    const bool keep = sized && !sheet;
     std::vector<int32_t> parts = {int32_t(k)};
     parts.insert(parts.end(), c[k].cavities.begin(), c[k].cavities.end());
     if (keep) {
@@ -88,6 +97,8 @@ FilteredMesh filter_components(const TriangleMesh& m, const ComponentOptions& fi
     }
     DroppedComponent d;
     d.volume_mm3 = net(k);
+    d.area_mm2 = area(k);
+    d.thin = sized;
     int64_t corners = 0;
     std::vector<uint32_t> used;
     for (int32_t q : parts)

@@ -18,12 +18,17 @@ namespace mpumesh {
 struct ComponentOptions {
   int64_t largest = 0;        // keep the N shells of largest volume (0: all)
   double min_volume_mm3 = 0;  // and drop the shells enclosing less than this
-  bool active() const { return largest > 0 || min_volume_mm3 > 0; }
+  // And drop the shells whose mean thickness, 2 × volume / area (a plate's thickness), is
+  // below this: a sheet folded onto itself, two sides of one surface that enclose nothing.
+  double min_thickness_mm = 0;
+  bool active() const { return largest > 0 || min_volume_mm3 > 0 || min_thickness_mm > 0; }
 };
 
 struct DroppedComponent {
   int64_t triangles = 0, vertices = 0;
   double volume_mm3 = 0;  // the shell's, less its cavities'
+  double area_mm2 = 0;    // the shell's and its cavities'
+  bool thin = false;      // dropped for its thickness alone
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // of its vertices
 };
 

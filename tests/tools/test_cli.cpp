@@ -271,14 +271,23 @@ TEST(Cli, RunOnTheSampleCt) {
   EXPECT_EQ(j["particles"]["requested_particles"].get<int64_t>(), 20000);
   ASSERT_EQ(j["notes"].size(), 1u) << j.dump();
   EXPECT_NE(j["notes"][0].get<std::string>().find("--particles 30000"), std::string::npos) << j["notes"][0];
-  // From a volume, the specks enclosing less than a tenth of a voxel are dropped.
+  // From a volume, the specks enclosing less than a tenth of a voxel are dropped, and the
+  // shells thinner on average than a quarter of the fit's tolerance.
   const auto& specks = j["components_filter"];
   EXPECT_NEAR(specks["min_volume_mm3"].get<double>(), 0.1 * 0.9570312 * 0.9570312 * 1.5, 1e-6);
-  int64_t speck_vertices = 0;
+  EXPECT_NEAR(specks["min_thickness_mm"].get<double>(), 0.25 * j["fit"]["eps_mm"].get<double>(), 1e-9);
+  int64_t speck_vertices = 0, thin = 0;
   for (const auto& d : specks["dropped"]) {
-    EXPECT_LT(d["volume_mm3"].get<double>(), specks["min_volume_mm3"].get<double>());
+    if (d["thin"].get<bool>()) {
+      ++thin;
+      EXPECT_LT(2 * d["volume_mm3"].get<double>(),
+                specks["min_thickness_mm"].get<double>() * d["area_mm2"].get<double>());
+    } else {
+      EXPECT_LT(d["volume_mm3"].get<double>(), specks["min_volume_mm3"].get<double>());
+    }
     speck_vertices += d["vertices"].get<int64_t>();
   }
+  EXPECT_EQ(specks["thin_dropped"].get<int64_t>(), thin);
   const auto& tr = j["triangulation"];
   EXPECT_EQ(j["particles"]["particles"].get<int64_t>() + tr["repair_points"].get<int64_t>() -
                 tr["unused_particles"].get<int64_t>() - tr["edge_collapses"].get<int64_t>() -

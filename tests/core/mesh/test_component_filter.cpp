@@ -70,5 +70,30 @@ TEST(ComponentOptions, DropsEverythingBelowTheVolumeAsked) {
   EXPECT_EQ(r.dropped.size(), 3u);
 }
 
+// A sheet folded onto itself: a flattened ball (every vertex squeezed to 0.02 mm in z), two
+// sides 0.02 mm apart at most, enclosing next to nothing; and a thin plate (a 10 x 10 x 0.5
+// mm box) beside the three structures.
+TEST(ComponentOptions, DropsSheetsThatEncloseNothingAndKeepsThinPlates) {
+  TriangleMesh m = three_structures();
+  TriangleMesh sheet = test::icosphere(6, 3);
+  for (auto& v : sheet.vertices) v.z() *= 0.02 / 6;
+  add(m, sheet, {0, -40, 0});
+  TriangleMesh plate = test::unit_cube();
+  for (auto& v : plate.vertices) v = v.cwiseProduct(Eigen::Vector3d(10, 10, 0.5));
+  add(m, plate, {-40, 0, 0});
+  m.normals.assign(m.vertices.size(), Eigen::Vector3f(0, 0, 1));
+  ComponentOptions f;
+  f.min_thickness_mm = 0.1;
+  const FilteredMesh r = filter_components(m, f);
+  EXPECT_EQ(r.kept, 4);  // the three structures and the plate (2 V / A = 0.45 mm)
+  ASSERT_EQ(r.dropped.size(), 1u);
+  EXPECT_TRUE(r.dropped[0].thin);
+  EXPECT_NEAR(r.dropped[0].centre.y(), -40, 0.5);
+  EXPECT_LT(2 * r.dropped[0].volume_mm3, 0.1 * r.dropped[0].area_mm2);
+  // A thickness bound above the plate's drops it too, as a sheet.
+  f.min_thickness_mm = 1;
+  EXPECT_EQ(filter_components(m, f).dropped.size(), 2u);
+}
+
 }  // namespace
 }  // namespace mpumesh
