@@ -1,11 +1,10 @@
 #include "mpu/fit_tolerance.h"
 
 #include <fmt/format.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
-
-#include <tbb/parallel_for.h>
 
 #include "points/point_noise.h"
 
