@@ -204,6 +204,10 @@ int wait_for(pid_t pid, int alive, const std::string& path, const std::string& r
 
 PlainVolume read_isolated(const std::string& path, const std::string& reader,
                           const std::function<PlainVolume()>& read) {
+#ifdef MPUMESH_READ_IN_PROCESS
+  (void)path, (void)reader;
+  return read();
+#endif
   Fd record;
   record.fd = ::memfd_create("mpumesh-volume", MFD_CLOEXEC);
   if (record.fd < 0) throw InputError(path + ": cannot make a shared file for the reader: " + std::strerror(errno));

@@ -6,6 +6,8 @@
 //
 // The time limit is MPUMESH_READER_TIMEOUT seconds (default 600). For the tests,
 // MPUMESH_READER_TEST=abort makes the child abort and =hang makes it wait past the limit.
+// Built with MPUMESH_READ_IN_PROCESS (the sanitized build, whose allocator is not
+// fork-safe), `read` runs in the caller's process instead.
 #pragma once
 
 #include <functional>
