@@ -25,6 +25,13 @@ inline uint64_t edge_key(uint32_t a, uint32_t b) {
   return a < b ? (uint64_t(a) << 32) | b : (uint64_t(b) << 32) | a;
 }
 
+// The signed volume the triangles enclose (mm³; positive for an outward-facing shell).
+inline double enclosed_volume(const TriangleMesh& m) {
+  double v = 0;
+  for (const auto& t : m.triangles) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6.0;
+  return v;
+}
+
 // The mean length of the edges at each vertex (0 at a vertex no triangle uses): the
 // mesh's local spacing.
 inline std::vector<double> mean_edge_lengths(const TriangleMesh& m) {

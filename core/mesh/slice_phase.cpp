@@ -44,4 +44,8 @@ SlicePhase slice_phase(const TriangleMesh& mesh, const Eigen::Vector3d& origin, 
   return out;
 }
 
+SlicePhase slice_phase(const TriangleMesh& mesh, const Volume& scan, int bins) {
+  return slice_phase(mesh, scan.origin, scan.direction.col(2).normalized(), scan.spacing.z(), bins);
+}
+
 }  // namespace mpumesh

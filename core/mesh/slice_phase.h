@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "geometry/triangle_mesh.h"
+#include "volume/volume.h"
 
 namespace mpumesh {
 
@@ -25,5 +26,7 @@ struct SlicePhase {
 // `slice_spacing` (mm) their period.
 SlicePhase slice_phase(const TriangleMesh& mesh, const Eigen::Vector3d& origin, const Eigen::Vector3d& slice_axis,
                        double slice_spacing, int bins = 8);
+// The slices of `scan`: through its origin, along its third axis, at its slice spacing.
+SlicePhase slice_phase(const TriangleMesh& mesh, const Volume& scan, int bins = 8);
 
 }  // namespace mpumesh

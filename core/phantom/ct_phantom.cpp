@@ -165,24 +165,26 @@ double Shape::max_abs_gauss() const {
   return 0;
 }
 
-namespace {
-
-// The volume's grid over the shape with the scan's margin, a fraction of a voxel off so
-// that no symmetry plane of the shape falls on it.
-Volume grid_over(const Shape& s, const Scan& c) {
+Volume phantom_grid(const Eigen::Vector3d& centre, const Eigen::Vector3d& half, const Eigen::Vector3d& spacing) {
   Volume v;
-  v.spacing = c.spacing;
+  v.spacing = spacing;
   v.source = "phantom";
-  const Eigen::Vector3d half = s.rotation.cwiseAbs() * s.half_extent() + Eigen::Vector3d::Constant(c.margin_mm);
-  const Eigen::Vector3d lo = s.centre - half;
-  for (int d = 0; d < 3; ++d) v.dims[size_t(d)] = int64_t(std::ceil(2 * half[d] / c.spacing[d])) + 1;
-  v.origin = lo + Eigen::Vector3d(0.37 * c.spacing.x(), 0.21 * c.spacing.y(), 0.43 * c.spacing.z());
+  for (int d = 0; d < 3; ++d) v.dims[size_t(d)] = int64_t(std::ceil(2 * half[d] / spacing[d])) + 1;
+  v.origin = centre - half + Eigen::Vector3d(0.37 * spacing.x(), 0.21 * spacing.y(), 0.43 * spacing.z());
   v.voxels.assign(size_t(v.voxel_count()), 0.0f);
   return v;
 }
 
 Eigen::Matrix3d tilt(double degrees, Eigen::Vector3d axis) {
   return Eigen::AngleAxisd(degrees * 3.14159265358979 / 180, axis.normalized()).toRotationMatrix();
+}
+
+namespace {
+
+// The volume's grid over the shape with the scan's margin.
+Volume grid_over(const Shape& s, const Scan& c) {
+  return phantom_grid(s.centre, s.rotation.cwiseAbs() * s.half_extent() + Eigen::Vector3d::Constant(c.margin_mm),
+                      c.spacing);
 }
 
 }  // namespace

@@ -41,6 +41,13 @@ struct Shape {
   bool on_cap(const Eigen::Vector3d& p) const;
 };
 
+// A rotation of `degrees` about `axis`, to place a shape tilted against the slices.
+Eigen::Matrix3d tilt(double degrees, Eigen::Vector3d axis);
+
+// An empty volume (0 everywhere) of voxels `spacing` over centre ± half, a fraction of a
+// voxel off so that no symmetry plane of a shape centred there falls on the grid.
+Volume phantom_grid(const Eigen::Vector3d& centre, const Eigen::Vector3d& half, const Eigen::Vector3d& spacing);
+
 struct Scan {
   Eigen::Vector3d spacing{0.6, 0.6, 2.0};  // in-plane pixel and slice thickness, mm
   double inside_hu = 1000, outside_hu = 0, noise_hu = 50;

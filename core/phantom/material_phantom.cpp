@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 
+#include "phantom/ct_phantom.h"
+
 namespace mpumesh::phantom {
 namespace {
 
@@ -251,15 +253,8 @@ double MaterialPhantom::extent() const {
 }
 
 Volume material_scan(const MaterialPhantom& m) {
-  Volume v;
-  v.spacing = m.spacing;
+  Volume v = phantom_grid(m.centre, Eigen::Vector3d::Constant(m.extent() + m.margin_mm), m.spacing);
   v.source = "phantom " + m.name;
-  const double half = m.extent() + m.margin_mm;
-  for (int d = 0; d < 3; ++d) v.dims[size_t(d)] = int64_t(std::ceil(2 * half / m.spacing[d])) + 1;
-  // A fraction of a voxel off, so that no symmetry plane falls on the grid.
-  v.origin = m.centre - Eigen::Vector3d::Constant(half) +
-             Eigen::Vector3d(0.37 * m.spacing.x(), 0.21 * m.spacing.y(), 0.43 * m.spacing.z());
-  v.voxels.assign(size_t(v.voxel_count()), 0.0f);
   tbb::parallel_for(int64_t(0), v.dims[2], [&](int64_t k) {
     for (int64_t j = 0; j < v.dims[1]; ++j)
       for (int64_t i = 0; i < v.dims[0]; ++i)
@@ -270,9 +265,6 @@ Volume material_scan(const MaterialPhantom& m) {
 }
 
 std::vector<MaterialPhantom> material_suite() {
-  auto tilt = [](double degrees, Eigen::Vector3d axis) {
-    return Eigen::AngleAxisd(degrees * kPi / 180, axis.normalized()).toRotationMatrix();
-  };
   std::vector<MaterialPhantom> out;
   MaterialPhantom s;
   s.kind = MaterialPhantom::kSplitBall, s.name = "split ball", s.radius = 15;

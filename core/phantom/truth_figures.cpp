@@ -96,12 +96,8 @@ TruthFigures truth_figures(const TriangleMesh& m, const Shape& shape, const Volu
   for (size_t i = 0; i < tenth; ++i) low.push_back(spacing[o[i]]), high.push_back(spacing[o[nv - 1 - i]]);
   f.spacing_high_low = median(high) / std::max(1e-12, median(low));
 
-  double volume = 0;
-  for (const auto& t : m.triangles) volume += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6;
-  f.volume_error = volume / shape.volume() - 1;
-  if (scan)
-    f.slice_modulation =
-        slice_phase(m, scan->origin, scan->direction.col(2).normalized(), scan->spacing.z()).modulation;
+  f.volume_error = enclosed_volume(m) / shape.volume() - 1;
+  if (scan) f.slice_modulation = slice_phase(m, *scan).modulation;
 
   if (shape.kind == Shape::kCapsule) {
     std::vector<double> kc, kb, sc, sb;

@@ -163,7 +163,7 @@ TEST(LabelTruth, SampleProjectMasksHaveNoTerraces) {
     SCOPED_TRACE(label);
     const TriangleMesh m = read_mesh(dir + "/head_" + std::to_string(label) + ".ply");
     EXPECT_TRUE(analyze_topology(m).oriented);
-    const double modulation = slice_phase(m, map.origin, map.direction.col(2), map.spacing.z()).modulation;
+    const double modulation = slice_phase(m, map).modulation;
     EXPECT_LE(modulation, kTarget.slice_modulation);
   }
 }

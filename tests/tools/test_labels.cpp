@@ -27,12 +27,6 @@ std::string label_phantom(const std::string& dir) {
 // The analytic volumes (mm^3): the ellipsoid's two parts and the ball.
 double ellipsoid_volume(const test::LabelPhantom& ph) { return 4.0 / 3.0 * M_PI * ph.radii.prod(); }
 
-double enclosed_volume(const TriangleMesh& m) {
-  double v = 0;
-  for (const auto& t : m.triangles) v += m.vertices[t[0]].dot(m.vertices[t[1]].cross(m.vertices[t[2]])) / 6.0;
-  return v;
-}
-
 class Labels : public ::testing::Test {
  protected:
   // Once per process: ctest runs each test in a process of its own, two at a time.

@@ -32,6 +32,7 @@
 #include "mesh/slice_phase.h"
 #include "phantom/ct_phantom.h"
 #include "phantom/truth_figures.h"
+#include "segment/label_map.h"
 #include "truth_rows.h"
 
 using namespace mpumesh;
@@ -66,10 +67,6 @@ std::string extra_args() {
   return e ? std::string(" ") + e : std::string();
 }
 
-double slice_modulation(const TriangleMesh& m, const Volume& v) {
-  return slice_phase(m, v.origin, v.direction.col(2).normalized(), v.spacing.z()).modulation;
-}
-
 void bench_phantom(const phantom::Phantom& ph, const std::string& backend, const fs::path& root) {
   const std::string bin = MPUMESH_BIN;
   const fs::path dir = root / ph.name;
@@ -100,15 +97,7 @@ void bench_phantom(const phantom::Phantom& ph, const std::string& backend, const
   std::fflush(stdout);
 }
 
-// The labels present in the map, each with its voxel count.
-std::map<int, int64_t> label_counts(const Volume& v) {
-  std::map<int, int64_t> out;
-  for (float x : v.voxels)
-    if (x != 0) ++out[int(std::lround(x))];
-  return out;
-}
-
-Volume only_label(const Volume& v, int label) {
+Volume only_label(const Volume& v, int64_t label) {
   Volume out = v;
   for (float& x : out.voxels) x = std::lround(x) == label ? 1.f : 0.f;
   return out;
@@ -118,7 +107,7 @@ void print_real_row(const std::string& label, const std::string& name, const Tri
                     double seconds) {
   const Quality q = measure_quality(m, {.self_intersections = false});
   fmt::print("  {:<7} {:<12} {:>9} {:>7} {:>9} {:>6.2f} {:>7}\n", label, name, m.triangles.size(),
-             q.topo.closed ? "yes" : "no", q.topo.manifold ? "yes" : "no", slice_modulation(m, map),
+             q.topo.closed ? "yes" : "no", q.topo.manifold ? "yes" : "no", slice_phase(m, map).modulation,
              seconds < 0 ? "-" : fmt::format("{:.1f}", seconds));
   std::fflush(stdout);
 }
@@ -149,8 +138,8 @@ void bench_real(const Args& args, const fs::path& root) {
   fmt::print("  ours: all labels in {:.1f} s\n", t);
   fmt::print("  {:<7} {:<12} {:>9} {:>7} {:>9} {:>6} {:>7}\n", "label", "mesh", "triangles", "closed", "manifold",
              "slice", "s");
-  std::vector<std::pair<int, TriangleMesh>> ours;
-  for (const auto& [label, voxels] : label_counts(map)) {
+  std::vector<std::pair<int64_t, TriangleMesh>> ours;
+  for (const auto& [label, voxels] : seg::label_voxel_counts(map)) {
     const std::string path = (dir / fmt::format("label_{}.ply", label)).string();
     if (!fs::exists(path)) {
       fmt::print("  {:<7} skipped ({} voxels)\n", label, voxels);
