@@ -20,6 +20,9 @@
 #include "io/volume_io.h"
 #include "mpu/mpu_io.h"
 #include "option_spelling.h"
+#include "geometry/drop_unused.h"
+#include "multi/complex_figures.h"
+#include "pipeline/complex_run.h"
 #include "pipeline/label_runs.h"
 #include "report_builder.h"
 #include "run_json.h"
@@ -182,6 +185,70 @@ void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonO
   if (common.json) std::cout << j.dump(2) << '\n';
 }
 
+// The complex's outputs: the whole as one PLY with label_a, label_b, or with {label} in the
+// path each label's closed boundary cut from it (neighbours share their interface's
+// vertices exactly).
+void write_complex(const RunCli& o, const pipeline::ComplexResult& r, PendingOutputs& pending) {
+  if (o.output.find(kLabelField) == std::string::npos) {
+    write_mesh(r.complex.mesh, pending.add(o.output));
+    return;
+  }
+  for (const pipeline::ComplexRegion& g : r.regions) {
+    TriangleMesh m = multi::label_boundary(r.complex.mesh, g.label);
+    drop_unused_points(m.vertices, m.triangles);
+    write_mesh(m, pending.add(with_label(o.output, g.label)));
+  }
+}
+
+// --labels without --separate: one multi-material complex of the labels
+// (pipeline/complex_run.h).
+void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
+  const bool talk = !common.json && !common.quiet;
+  Progress shown(!talk), progress(!talk);
+  RunObserver observer(shown, talk);
+  EarlyBackend early(o.backend);
+  progress.begin("read volume");
+  const Volume vol = read_volume(o.input);
+  progress.end();
+  const std::vector<int64_t> todo =
+      pipeline::labels_to_mesh(o.input, seg::parse_label_list(o.labels), seg::label_voxel_counts(vol));
+  vk::BackendChoice choice;
+  const pipeline::BackendOpener open = [&]() -> ComputeBackend& {
+    if (!choice.backend) choice = early.open(common, progress);
+    return *choice.backend;
+  };
+  PendingOutputs pending;
+  const auto on_label = [&](pipeline::LabelRun& run) {
+    if (!o.surface.empty()) write_mpu(run.result.surface, pending.add(with_label(o.surface, run.label)));
+  };
+  pipeline::RunOptions quiet_base = base;
+  quiet_base.quality.reset();
+  const pipeline::ComplexResult r =
+      pipeline::run_complex(vol, todo, o.labels == "all", quiet_base, open, &observer, on_label);
+  progress.begin("write mesh");
+  write_complex(o, r, pending);
+  progress.end();
+  pending.commit();
+  const multi::ComplexFigures& f = r.figures;
+  int64_t open_edges = 0;
+  for (const multi::RegionFigures& g : f.regions) open_edges += g.defects;
+  if (talk)
+    std::cout << fmt::format(
+        "{}: {} labels, {} triangles, {} interfaces, {} junction curves ({:.1f} mm), smallest angle {:.1f} deg, "
+        "{} crossing pairs, every label closed: {}\n",
+        o.output, f.regions.size(), r.complex.mesh.triangles.size(), f.interfaces.size(), f.junction_curves,
+        f.junction_length_mm, f.min_angle_deg, f.crossing_pairs, open_edges == 0 ? "yes" : "no");
+  nlohmann::json j = {{"input", o.input},
+                      {"output", o.output},
+                      {"complex", complex_json(r)},
+                      {"meshed", r.labels.meshed},
+                      {"skipped", skipped_labels_json(r.labels.skipped)},
+                      {"version", MPUMESH_VERSION}};
+  j["stage_seconds"] = stage_seconds_json({}, progress);
+  if (!o.report.empty()) write_json_file(j, o.report);
+  if (common.json) std::cout << j.dump(2) << '\n';
+}
+
 }  // namespace
 
 void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>& action) {
@@ -198,7 +265,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       std::optional<tbb::global_control> threads;
       if (o->threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, size_t(o->threads));
       if (o->labels.empty()) run_one(*o, options, common);
-      else run_labels(*o, options, common);
+      else if (o->separate) run_labels(*o, options, common);
+      else run_complex_labels(*o, options, common);
     };
   });
 }

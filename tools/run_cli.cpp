@@ -41,10 +41,16 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
                     ->check(CLI::PositiveNumber);
   cmd->add_option("--labels", o.labels,
                   "the input is a label map: mesh each label, 'all' (those present; one too small to mesh is "
-                  "skipped with a note) or a list such as 3,7,12 (one too small is refused), in that order, reading "
-                  "the volume once; a label's mesh is kept out of those of the labels before it; -o, --html and "
-                  "--surface must hold {label}, and --report gets a section per label")
+                  "skipped with a note) or a list such as 3,7,12 (one too small is refused; the labels not named "
+                  "count as background), as one multi-material complex whose interfaces the labels share: -o "
+                  "without {label} writes the complex as one PLY whose faces carry label_a < label_b (0 the "
+                  "background), with {label} each label's closed boundary cut from it; --surface must hold "
+                  "{label}; --report gets the complex's figures")
       ->excludes(label);
+  cmd->add_flag("--separate", o.separate,
+                "with --labels: mesh each label's own surface instead of one complex (a label's mesh kept out of "
+                "those of the labels before it); -o, --html and --surface must hold {label}, and --report gets a "
+                "section per label");
   cmd->add_flag("--ruled-caps", o.ruled_caps,
                 "cap points' heights from the contours alone (a ruled surface between two slices' contours), not "
                 "from the grey of the two slabs the surface crosses");
@@ -85,6 +91,7 @@ namespace {
 // segmentation), and with --labels one path per label for the mesh and the per-label files.
 void check_label_options(const RunCli& o) {
   const bool many = !o.labels.empty();
+  if (o.separate && !many) throw InputError("--separate: each label's own surface needs --labels");
   if (o.label == 0 && !many) return;
   const char* flag = many ? "--labels" : "--label";
   if (pipeline::is_mesh_path(o.input))
@@ -97,7 +104,17 @@ void check_label_options(const RunCli& o) {
   if (!o.volume.empty())
     throw InputError("--labels: --volume fills one surface; mesh each label's surface with `mpumesh tetmesh`");
   seg::parse_label_list(o.labels);  // its errors now, before the volume is read
-  for (const std::string* path : {&o.output, &o.html, &o.surface})
+  if (!o.separate) {
+    if (!o.html.empty())
+      throw InputError("--html: the complex of --labels has its figures in --report; per-label HTML reports come "
+                       "with --separate");
+    if (o.output.find(kLabelField) == std::string::npos && mesh_format_from_path(o.output) != MeshFormat::kPly)
+      throw InputError(o.output + ": the complex is written as PLY, whose faces carry label_a and label_b (or "
+                                  "put {label} in the path for one closed surface per label)");
+  }
+  std::vector<const std::string*> per_label = {&o.surface};
+  if (o.separate) per_label = {&o.output, &o.html, &o.surface};
+  for (const std::string* path : per_label)
     if (!path->empty() && path->find(kLabelField) == std::string::npos)
       throw InputError(fmt::format("{}: --labels writes one file per label: the path must hold {} (for example "
                                    "out/bone_{}.ply)",

@@ -33,6 +33,7 @@ struct RunCli {
   ComponentOptions components;
   int64_t label = 0;   // --label
   std::string labels;  // --labels: "all" or a list
+  bool separate = false;  // --separate: each label's own surface, not one complex
   int threads = 0;     // 0: every core
 };
 

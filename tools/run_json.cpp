@@ -220,3 +220,58 @@ nlohmann::json label_crossings_json(const std::vector<pipeline::LabelCrossing>& 
 }
 
 }  // namespace mpumesh::tools
+
+namespace mpumesh::tools {
+
+nlohmann::json complex_json(const pipeline::ComplexResult& r) {
+  const multi::ComplexFigures& f = r.figures;
+  nlohmann::json labels = nlohmann::json::array();
+  for (const pipeline::ComplexRegion& g : r.regions) {
+    nlohmann::json l = {{"label", g.label}, {"voxels", g.voxels}, {"voxel_volume_mm3", g.voxel_volume_mm3}};
+    for (const multi::RegionFigures& x : f.regions)
+      if (x.label == g.label)
+        l.update({{"volume_mm3", x.volume_mm3},
+                  {"volume_vs_voxels", g.voxel_volume_mm3 > 0 ? x.volume_mm3 / g.voxel_volume_mm3 - 1 : 0.0},
+                  {"triangles", x.triangles},
+                  {"closed", x.defects == 0},
+                  {"open_edges", x.defects},
+                  {"components", x.components}});
+    labels.push_back(l);
+  }
+  nlohmann::json interfaces = nlohmann::json::array();
+  for (const multi::InterfaceFigures& x : f.interfaces)
+    interfaces.push_back({{"labels", {x.label_a, x.label_b}},
+                          {"triangles", x.triangles},
+                          {"area_mm2", x.area_mm2},
+                          {"min_angle_deg", x.min_angle_deg},
+                          {"mean_radius_ratio", x.mean_radius_ratio}});
+  const multi::ComplexSampleStats& s = r.sample;
+  const multi::ComplexDelaunayStats& t = r.triangulation;
+  return {{"vertices", r.complex.mesh.vertices.size()},
+          {"triangles", r.complex.mesh.triangles.size()},
+          {"labels", labels},
+          {"interfaces", interfaces},
+          {"junctions", {{"curves", f.junction_curves}, {"edges", f.junction_edges}, {"length_mm", f.junction_length_mm}}},
+          {"min_angle_deg", f.min_angle_deg},
+          {"min_angle_off_junctions_deg", f.min_angle_off_junction_deg},
+          {"mean_radius_ratio", f.mean_radius_ratio},
+          {"crossing_pairs", f.crossing_pairs},
+          {"sample",
+           {{"seeds", s.seeds},
+            {"off_interface", s.off_interface},
+            {"other_sampling", s.other_source},
+            {"merged", s.merged},
+            {"interface_particles", s.interface_particles},
+            {"junction_particles", s.junction_particles},
+            {"corners", s.corners},
+            {"seconds", s.seconds}}},
+          {"triangulation",
+           {{"points", t.points},
+            {"repair_points", t.repair_points},
+            {"repair_rounds", t.repair_rounds},
+            {"open_edges_left", t.bad_edges},
+            {"seconds", t.seconds}}},
+          {"seconds", {{"labels", r.seconds_labels}, {"union", r.seconds_union}, {"complex", r.seconds_complex}}}};
+}
+
+}  // namespace mpumesh::tools

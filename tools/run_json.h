@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "pipeline/complex_run.h"
 #include "pipeline/label_runs.h"
 #include "pipeline/run_result.h"
 #include "progress.h"
@@ -50,6 +51,10 @@ nlohmann::json input_json(const pipeline::InputInfo& in);
 void add_label_json(nlohmann::json& j, const pipeline::LabelRun& run);
 nlohmann::json skipped_labels_json(const std::vector<pipeline::SkippedLabel>& skipped);
 nlohmann::json label_crossings_json(const std::vector<pipeline::LabelCrossing>& crossings);
+// The complex of a --labels run: per label its enclosed volume against its voxels' and its
+// closedness, per interface its area and triangles' shape, the junction curves, the
+// crossing triangle pairs, and how it was sampled and triangulated.
+nlohmann::json complex_json(const pipeline::ComplexResult& r);
 
 // What `mpumesh report --run-report` reads back from a run's JSON report for the HTML
 // page: the summary's parts the page shows (the others stay empty), and the device and

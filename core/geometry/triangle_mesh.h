@@ -18,6 +18,10 @@ struct TriangleMesh {
   // the vertices drops them; they are attached last (mesh/surface_attributes.h).
   std::vector<Eigen::Vector3f> normals;
   std::vector<std::array<float, 4>> curvature;
+  // Optional per-triangle data, empty or one entry per triangle (PLY face properties
+  // label_a, label_b): the labels of the two regions a multi-material complex's triangle
+  // separates, a < b, 0 the background; the triangle's normal points from a into b.
+  std::vector<std::array<int32_t, 2>> face_labels;
 };
 
 // The undirected edge {a, b} as one 64-bit key (smaller index in the high half).

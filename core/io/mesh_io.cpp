@@ -156,6 +156,7 @@ class PlyValues {
 struct PlyColumns {
   int x = -1, y = -1, z = -1, nx = -1, ny = -1, nz = -1;
   int k[4] = {-1, -1, -1, -1};  // k1 k2 K H
+  int label_a = -1, label_b = -1;  // a face's regions (a multi-material complex)
   explicit PlyColumns(const PlyElement& e) {
     static const char* const kCurvatureNames[4] = {"k1", "k2", "K", "H"};
     for (size_t i = 0; i < e.props.size(); ++i) {
@@ -168,8 +169,11 @@ struct PlyColumns {
       if (n == "nx") nx = int(i);
       if (n == "ny") ny = int(i);
       if (n == "nz") nz = int(i);
+      if (n == "label_a" && e.props[i].list_count_type.empty()) label_a = int(i);
+      if (n == "label_b" && e.props[i].list_count_type.empty()) label_b = int(i);
     }
   }
+  bool labels() const { return label_a >= 0 && label_b >= 0; }
   bool normals() const { return nx >= 0 && ny >= 0 && nz >= 0; }
   bool curvature() const { return k[0] >= 0 && k[1] >= 0 && k[2] >= 0 && k[3] >= 0; }
 };
@@ -187,6 +191,7 @@ void read_ply_element(const PlyElement& e, PlyValues& values, TriangleMesh& m, s
   for (int64_t r = 0; r < e.count; ++r) {
     Eigen::Vector3d v = Eigen::Vector3d::Zero(), nv = Eigen::Vector3d::Zero();
     std::array<float, 4> kv{};
+    std::array<double, 2> pair{0, 0};
     for (size_t i = 0; i < e.props.size(); ++i) {
       const PlyProp& p = e.props[i];
       if (!p.list_count_type.empty()) {
@@ -211,6 +216,14 @@ void read_ply_element(const PlyElement& e, PlyValues& values, TriangleMesh& m, s
       if (at == col.nz) nv.z() = x;
       for (int c = 0; c < 4; ++c)
         if (at == col.k[c]) kv[size_t(c)] = float(x);
+      if (at == col.label_a) pair[0] = x;
+      if (at == col.label_b) pair[1] = x;
+    }
+    if (is_face && col.labels()) {
+      for (const double l : pair)
+        if (!(l >= 0 && l < 2147483648.0 && l == std::floor(l)))
+          throw InputError(name + ": bad PLY face label (label_a and label_b are whole numbers, 0 or more)");
+      m.face_labels.resize(m.triangles.size(), {int32_t(pair[0]), int32_t(pair[1])});
     }
     if (!is_vertex) continue;
     m.vertices.push_back(v);
@@ -243,7 +256,10 @@ void write_ply(const TriangleMesh& m, std::ostream& os) {
   os << "element vertex " << m.vertices.size() << "\nproperty float x\nproperty float y\nproperty float z\n";
   if (normals) os << "property float nx\nproperty float ny\nproperty float nz\n";
   if (curvature) os << "property float k1\nproperty float k2\nproperty float K\nproperty float H\n";
-  os << "element face " << m.triangles.size() << "\nproperty list uchar int vertex_indices\nend_header\n";
+  const bool labels = m.face_labels.size() == m.triangles.size() && !m.triangles.empty();
+  os << "element face " << m.triangles.size() << "\nproperty list uchar int vertex_indices\n";
+  if (labels) os << "property int label_a\nproperty int label_b\n";
+  os << "end_header\n";
   for (size_t i = 0; i < m.vertices.size(); ++i) {
     const auto& v = m.vertices[i];
     float f[10] = {float(v.x()), float(v.y()), float(v.z())};
@@ -254,12 +270,17 @@ void write_ply(const TriangleMesh& m, std::ostream& os) {
       for (float k : m.curvature[i]) f[n++] = k;
     os.write(reinterpret_cast<const char*>(f), std::streamsize(n * sizeof(float)));
   }
-  for (const auto& t : m.triangles) {
-    char rec[13];
+  for (size_t f = 0; f < m.triangles.size(); ++f) {
+    const auto& t = m.triangles[f];
+    char rec[21];
     rec[0] = 3;
-    int32_t idx[3] = {int32_t(t[0]), int32_t(t[1]), int32_t(t[2])};
-    std::memcpy(rec + 1, idx, 12);
-    os.write(rec, sizeof rec);
+    int32_t idx[5] = {int32_t(t[0]), int32_t(t[1]), int32_t(t[2]), 0, 0};
+    if (labels) {
+      idx[3] = m.face_labels[f][0];
+      idx[4] = m.face_labels[f][1];
+    }
+    std::memcpy(rec + 1, idx, 20);
+    os.write(rec, labels ? 21 : 13);
   }
 }
 

@@ -11,13 +11,6 @@
 #include <numeric>
 
 namespace mpumesh::phantom {
-namespace {
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 double weighted_quantile(const std::vector<double>& x, const std::vector<double>& w, double q) {
   std::vector<size_t> o(x.size());
@@ -28,6 +21,14 @@ double weighted_quantile(const std::vector<double>& x, const std::vector<double>
   for (size_t i : o)
     if ((acc += w[i]) >= q * total) return x[i];
   return o.empty() ? 0 : x[o.back()];
+}
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
+  return v[v.size() / 2];
 }
 
 // The mesh's discrete Gaussian curvature: 2π minus the angles at a vertex, over a third

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "geometry/triangle_mesh.h"
 #include "phantom/ct_phantom.h"
@@ -29,6 +30,9 @@ struct TruthFigures {
   // With the scan's grid: the slice-phase modulation of |H| (mesh/slice_phase.h).
   double slice_modulation = 0;
 };
+
+// The value below which a fraction q of the weight w lies.
+double weighted_quantile(const std::vector<double>& x, const std::vector<double>& w, double q);
 
 // `scan`, when given, is the volume the mesh was made from (its slices' geometry).
 TruthFigures truth_figures(const TriangleMesh& mesh, const Shape& shape, const Volume* scan = nullptr);

@@ -68,7 +68,7 @@ std::optional<LabelSeparation> yield_to_earlier_labels(RunResult& r, int64_t lab
 
 LabelsResult run_labels(const Volume& vol, const std::vector<int64_t>& labels, bool skip_failures,
                         const RunOptions& base, const BackendOpener& open_backend, Observer* observer,
-                        const std::function<void(LabelRun&)>& on_label) {
+                        const std::function<void(LabelRun&)>& on_label, bool separate) {
   Observer quiet;
   Observer& obs = observer ? *observer : quiet;
   const std::map<int64_t, int64_t> counts = seg::label_voxel_counts(vol);
@@ -97,11 +97,13 @@ LabelsResult run_labels(const Volume& vol, const std::vector<int64_t>& labels, b
       skip(l, e.what());
       continue;
     }
-    run.separation =
-        yield_to_earlier_labels(run.result, l, shapes, vol.in_plane_spacing(), base, obs, out.crossings);
-    shapes.push_back({l, {}});
-    shapes.back().mesh.vertices = run.result.mesh.vertices;
-    shapes.back().mesh.triangles = run.result.mesh.triangles;
+    if (separate) {
+      run.separation =
+          yield_to_earlier_labels(run.result, l, shapes, vol.in_plane_spacing(), base, obs, out.crossings);
+      shapes.push_back({l, {}});
+      shapes.back().mesh.vertices = run.result.mesh.vertices;
+      shapes.back().mesh.triangles = run.result.mesh.triangles;
+    }
     out.meshed.push_back(l);
     on_label(run);
   }

@@ -54,10 +54,11 @@ struct LabelsResult {
 // turn). With `skip_failures` (all labels asked for), a label too small to mesh, or whose
 // run fails with bad input or a numerical failure, is skipped with the reason; otherwise
 // the error is thrown. `on_label` receives each label's run when it is done (for its
-// outputs), in order; the caller keeps what it needs. Throws InputError when no label
-// could be meshed.
+// outputs), in order; the caller keeps what it needs. Without `separate`, the meshes are
+// left as their runs made them (the complex, pipeline/complex_run.h, needs only their
+// fits and samples). Throws InputError when no label could be meshed.
 LabelsResult run_labels(const Volume& labels_volume, const std::vector<int64_t>& labels, bool skip_failures,
                         const RunOptions& base, const BackendOpener& open_backend, Observer* observer,
-                        const std::function<void(LabelRun&)>& on_label);
+                        const std::function<void(LabelRun&)>& on_label, bool separate = true);
 
 }  // namespace mpumesh::pipeline

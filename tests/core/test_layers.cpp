@@ -15,7 +15,7 @@ namespace {
 
 // Lowest first.
 const std::vector<std::string> kFloors = {"common",  "geometry",  "volume", "io",      "compute", "mc",
-                                          "segment", "points",    "mpu",    "particles", "mesh",  "tet",     "phantom",
+                                          "segment", "points",    "mpu",    "particles", "mesh",  "tet",     "multi",  "phantom",
                                           "render",  "report",    "cpu",    "pipeline"};
 
 TEST(Layers, CoreFoldersIncludeOnlyDownward) {

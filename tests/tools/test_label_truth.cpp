@@ -111,7 +111,7 @@ TEST(LabelTruth, ThinStructuresStayClosedAndPresent) {
       }
   const std::string dir = test::temp_dir("label_thin");
   write_volume(v, dir + "/thin.nii.gz");
-  const Result r = run("run " + dir + "/thin.nii.gz --labels all --backend cpu --quiet -o " + dir + "/thin_{label}.ply");
+  const Result r = run("run " + dir + "/thin.nii.gz --labels all --separate --backend cpu --quiet -o " + dir + "/thin_{label}.ply");
   ASSERT_EQ(r.code, 0) << r.out;
   for (int label : {1, 2}) {
     SCOPED_TRACE(label);
@@ -153,7 +153,7 @@ TEST(LabelTruth, SampleProjectMasksHaveNoTerraces) {
   const Result blended = run("convert " + ct + " --masks --size 64x64x27 --quiet -o " + dir + "/small.nii.gz");
   EXPECT_NE(blended.code, 0);
   EXPECT_FALSE(std::filesystem::exists(dir + "/small.nii.gz"));
-  const Result r = run("run " + dir + "/masks.nii.gz --labels all --backend cpu --quiet -o " + dir +
+  const Result r = run("run " + dir + "/masks.nii.gz --labels all --separate --backend cpu --quiet -o " + dir +
                        "/head_{label}.ply --report " + dir + "/head.json");
   ASSERT_EQ(r.code, 0) << r.out;
   const Volume map = read_volume(dir + "/masks.nii.gz");

@@ -1,17 +1,20 @@
-// Label maps: `run --label L` and `run --labels all|LIST` on a synthetic label map with
-// two touching labels, one apart and one too small to mesh.
+// Label maps: `run --label L`, `run --labels all|LIST --separate` and the complex of
+// `run --labels` on a synthetic label map with two touching labels, one apart, a ball in
+// a nest and one too small to mesh.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include <unistd.h>
 
 #include <filesystem>
+#include <set>
 
 #include "cli_support.h"
 #include "io/mesh_io.h"
 #include "io/read_file.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
+#include "mesh/topology.h"
 
 namespace mpumesh {
 namespace {
@@ -33,7 +36,7 @@ class Labels : public ::testing::Test {
   static void SetUpTestSuite() {
     dir_ = test::temp_dir("labels-" + std::to_string(getpid()));
     map_ = label_phantom(dir_);
-    all_ = run("run " + map_ + " --labels all -o " + dir_ + "/part_{label}.ply --report " + dir_ +
+    all_ = run("run " + map_ + " --labels all --separate -o " + dir_ + "/part_{label}.ply --report " + dir_ +
                "/report.json --particles 3000 --backend cpu");
   }
   static std::string dir_, map_;
@@ -131,10 +134,16 @@ TEST_F(Labels, ANamedLabelTooSmallOrAbsentIsRefusedAndNothingWritten) {
 }
 
 TEST_F(Labels, OptionsThatDoNotFitALabelMapAreRefused) {
-  expect_failure("run " + map_ + " --labels all -o " + dir_ + "/one.ply", "the path must hold {label}",
+  expect_failure("run " + map_ + " --labels all --separate -o " + dir_ + "/one.ply", "the path must hold {label}",
                  dir_ + "/one.ply");
-  expect_failure("run " + map_ + " --labels all -o " + dir_ + "/x_{label}.ply --html " + dir_ + "/r.html",
+  expect_failure("run " + map_ + " --labels all --separate -o " + dir_ + "/x_{label}.ply --html " + dir_ + "/r.html",
                  "r.html: --labels writes one file per label", dir_ + "/x_1.ply");
+  expect_failure("run " + map_ + " --labels all -o " + dir_ + "/c.ply --html " + dir_ + "/r.html",
+                 "--html: the complex of --labels has its figures in --report", dir_ + "/c.ply");
+  expect_failure("run " + map_ + " --labels all -o " + dir_ + "/c.stl", "c.stl: the complex is written as PLY",
+                 dir_ + "/c.stl");
+  expect_failure("run " + map_ + " --label 3 --separate -o " + dir_ + "/s.ply", "--separate: each label's own surface needs --labels",
+                 dir_ + "/s.ply");
   expect_failure("run " + map_ + " --label 3 --threshold 2 -o " + dir_ + "/t.ply", "--threshold, --method",
                  dir_ + "/t.ply");
   expect_failure("run " + map_ + " --labels 3,x -o " + dir_ + "/x_{label}.ply", "'x' is not a label",
@@ -144,6 +153,53 @@ TEST_F(Labels, OptionsThatDoNotFitALabelMapAreRefused) {
   const std::string ball = ball_phantom(dir_);  // an intensity image, not a label map
   expect_failure("run " + ball + " --labels all -o " + dir_ + "/b_{label}.ply", "not a label map",
                  dir_ + "/b_1.ply");
+}
+
+// The complex: one PLY whose faces carry the pair of labels they separate, every label's
+// boundary closed, the touching pairs sharing their interface, the report's figures; and
+// with {label} each label's boundary cut from the same complex.
+TEST_F(Labels, OneComplexWhoseTouchingLabelsShareTheirInterfaces) {
+  const std::string complex = dir_ + "/complex.ply", report = dir_ + "/complex.json";
+  const Result r = run("run " + map_ + " --labels all -o " + complex + " --report " + report +
+                       " --particles 3000 --backend cpu");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("every label closed: yes"), std::string::npos) << r.out;
+  const TriangleMesh c = read_mesh(complex);
+  ASSERT_EQ(c.face_labels.size(), c.triangles.size());
+  std::set<std::pair<int, int>> pairs;
+  for (const auto& l : c.face_labels) {
+    EXPECT_LT(l[0], l[1]);
+    pairs.insert({l[0], l[1]});
+  }
+  // The cut ellipsoid's halves (1, 2) and the ball in its nest (5, 6) share an interface;
+  // 3 stands apart; 4 is too small.
+  const std::set<std::pair<int, int>> expected = {{0, 1}, {0, 2}, {0, 3}, {0, 6}, {1, 2}, {5, 6}};
+  EXPECT_EQ(pairs, expected);
+  const auto j = nlohmann::json::parse(read_file(report));
+  const auto& cx = j["complex"];
+  EXPECT_EQ(cx["crossing_pairs"], 0);
+  ASSERT_EQ(cx["labels"].size(), 5u);
+  for (const auto& l : cx["labels"]) {
+    EXPECT_TRUE(l["closed"].get<bool>()) << l.dump();
+    EXPECT_LT(std::abs(l["volume_vs_voxels"].get<double>()), 0.08) << l.dump();
+  }
+  EXPECT_EQ(cx["interfaces"].size(), 6u);
+  EXPECT_GE(cx["junctions"]["curves"].get<int>(), 1);  // where 0, 1 and 2 meet
+  EXPECT_EQ(j["skipped"][0]["label"], 4);
+  // Each label's boundary cut from it: closed, and neighbours share their vertices.
+  const Result cut = run("run " + map_ + " --labels 1,2 -o " + dir_ + "/cut_{label}.ply --particles 3000 --backend cpu --quiet");
+  ASSERT_EQ(cut.code, 0) << cut.out;
+  const TriangleMesh a = read_mesh(dir_ + "/cut_1.ply"), b = read_mesh(dir_ + "/cut_2.ply");
+  EXPECT_TRUE(analyze_topology(a).oriented);
+  EXPECT_TRUE(analyze_topology(b).oriented);
+  std::set<std::array<double, 3>> in_a;
+  for (const auto& v : a.vertices) in_a.insert({v.x(), v.y(), v.z()});
+  int64_t shared = 0;
+  for (const auto& v : b.vertices) shared += in_a.count({v.x(), v.y(), v.z()});
+  EXPECT_GT(shared, 50);
+  const test::LabelPhantom ph;
+  const double whole = ellipsoid_volume(ph);
+  EXPECT_NEAR(enclosed_volume(a) + enclosed_volume(b), whole, 0.03 * whole);
 }
 
 }  // namespace

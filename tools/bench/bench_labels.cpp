@@ -8,7 +8,7 @@
 // (core/phantom/truth_figures.h): distance to the truth, normal error, K rank correlation,
 // spacing against |K|, the volume's error, and the slice-phase modulation of |H|
 // (core/mesh/slice_phase.h).
-// With --real MAP: `mpumesh run MAP --labels all`, and for each label its triangles,
+// With --real MAP: `mpumesh run MAP --labels all --separate`, and for each label its triangles,
 // closedness, the slice-phase modulation, and Mesh_3's on that label alone at our count.
 // --grey VOLUME:THRESHOLD:LABEL adds the count that the grey-volume rule gives for the
 // label's structure (the volume thresholded).
@@ -132,7 +132,7 @@ void bench_real(const Args& args, const fs::path& root) {
   const Volume map = read_volume(args.real);
   fmt::print("{}: {} x {} x {} voxels of {:.3f} x {:.3f} x {:.3f} mm\n", args.real, map.dims[0], map.dims[1],
              map.dims[2], map.spacing.x(), map.spacing.y(), map.spacing.z());
-  const double t = bench::timed_system(fmt::format("{} run {} --labels all --backend {} --quiet -o {}{}", MPUMESH_BIN,
+  const double t = bench::timed_system(fmt::format("{} run {} --labels all --separate --backend {} --quiet -o {}{}", MPUMESH_BIN,
                                                    args.real, args.backend, (dir / "label_{label}.ply").string(),
                                                    extra_args()));
   fmt::print("  ours: all labels in {:.1f} s\n", t);

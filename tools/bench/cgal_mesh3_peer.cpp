@@ -104,9 +104,11 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
   if (p.cell_size > 0)
     CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude(),
                         CGAL::parameters::manifold());
-  else
+  else if (p.manifold)
     CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude(),
                         CGAL::parameters::manifold());
+  else
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude());
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // The boundary facets, oriented outward (from the inside cell).
   std::map<Tr::Vertex_handle, uint32_t> index;
@@ -121,11 +123,15 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
   for (auto it = c3t3.facets_in_complex_begin(); it != c3t3.facets_in_complex_end(); ++it) {
     Tr::Cell_handle cell = it->first;
     int i = it->second;
-    if (!c3t3.is_in_complex(cell)) {  // use the inside cell's view of the facet
-      const Tr::Cell_handle other = cell->neighbor(i);
+    // The view of the facet from the cell of the higher subdomain (inside, in complex).
+    const Tr::Cell_handle other = cell->neighbor(i);
+    const int here = c3t3.is_in_complex(cell) ? int(c3t3.subdomain_index(cell)) : 0;
+    const int there = c3t3.is_in_complex(other) ? int(c3t3.subdomain_index(other)) : 0;
+    if (there > here) {
       i = other->index(cell);
       cell = other;
     }
+    if (p.labels) r.mesh.face_labels.push_back({std::min(here, there), std::max(here, there)});
     // Facet i of a positively oriented cell, counter-clockwise seen from outside the
     // cell: (i+1, i+2, i+3) for odd i, reversed for even i.
     uint32_t a = vid(cell->vertex((i + 1) & 3)), b = vid(cell->vertex((i + 2) & 3)), c = vid(cell->vertex((i + 3) & 3));
@@ -168,10 +174,10 @@ Mesh3Result cgal_mesh3_matching(const Volume& v, Mesh3Params& p, const TriangleM
   for (const auto& t : ours.triangles) edge += (ours.vertices[t[0]] - ours.vertices[t[1]]).norm();
   const double count = double(std::max<size_t>(1, ours.triangles.size()));
   p.facet_size = 1.2 * edge / count;
-  p.facet_distance = 0.2 * p.facet_size;
+  p.facet_distance = std::max(0.2 * p.facet_size, p.min_facet_distance);
   const Mesh3Result first = cgal_mesh3(v, p);
   p.facet_size *= std::sqrt(double(first.mesh.triangles.size()) / count);
-  p.facet_distance = 0.2 * p.facet_size;
+  p.facet_distance = std::max(0.2 * p.facet_size, p.min_facet_distance);
   return cgal_mesh3(v, p);
 }
 

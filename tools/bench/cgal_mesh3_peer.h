@@ -21,9 +21,16 @@ struct Mesh3Params {
   // A volume mesh too: cell_size > 0 adds the cell criteria (that size, radius-edge ratio
   // 3), then CGAL's sliver perturbation and exudation.
   double cell_size = 0;
+  // manifold() on (off: a complex where several labels meet, non-manifold along its
+  // junctions by nature, which manifold() would refine without end).
+  bool manifold = true;
+  // The least facet distance cgal_mesh3_matching sets (mm).
+  double min_facet_distance = 0;
 };
 
 struct Mesh3Result {
+  // The facets in the complex, each oriented out of its higher subdomain's cell; for a
+  // label map, face_labels holds each facet's two subdomains (0 outside), lower first.
   TriangleMesh mesh;
   TetMesh volume;  // with cell_size: the cells in the complex, one region
   int64_t initial_points = 0;  // after the initialisation
@@ -33,7 +40,7 @@ struct Mesh3Result {
 Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p);
 
 // Mesh_3 with its facet size set so that it makes about as many triangles as `ours`
-// (distance 0.2 × the size): a first size from our mean edge, one correction, since the
+// (distance 0.2 × the size, at least min_facet_distance): a first size from our mean edge, one correction, since the
 // count goes as 1 / size². `p` returns the size and distance used.
 Mesh3Result cgal_mesh3_matching(const Volume& v, Mesh3Params& p, const TriangleMesh& ours);
 

@@ -1,0 +1,155 @@
+#include "multi/complex_figures.h"
+
+#include <algorithm>
+#include <map>
+#include <numeric>
+#include <unordered_map>
+
+#include "mesh/cgal_geometry.h"
+#include "mesh/quality.h"
+
+namespace mpumesh::multi {
+namespace {
+
+// Union-find over vertex ids.
+struct Sets {
+  std::vector<uint32_t> up;
+  explicit Sets(size_t n) : up(n) { std::iota(up.begin(), up.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (up[x] != x) x = up[x] = up[up[x]];
+    return x;
+  }
+  void join(uint32_t a, uint32_t b) { up[find(a)] = find(b); }
+};
+
+int64_t count_components(const TriangleMesh& m) {
+  if (m.triangles.empty()) return 0;
+  Sets sets(m.vertices.size());
+  std::vector<char> used(m.vertices.size(), 0);
+  for (const auto& t : m.triangles) {
+    sets.join(t[0], t[1]);
+    sets.join(t[1], t[2]);
+    used[t[0]] = used[t[1]] = used[t[2]] = 1;
+  }
+  int64_t n = 0;
+  for (uint32_t v = 0; v < m.vertices.size(); ++v) n += used[v] && sets.find(v) == v;
+  return n;
+}
+
+}  // namespace
+
+std::vector<int64_t> complex_labels(const TriangleMesh& c) {
+  std::vector<int64_t> out;
+  for (const auto& l : c.face_labels) {
+    out.push_back(l[0]);
+    out.push_back(l[1]);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+TriangleMesh label_boundary(const TriangleMesh& c, int64_t label) {
+  TriangleMesh m;
+  m.vertices = c.vertices;
+  for (size_t t = 0; t < c.triangles.size(); ++t) {
+    const auto& tri = c.triangles[t];
+    if (c.face_labels[t][0] == label) m.triangles.push_back(tri);
+    if (c.face_labels[t][1] == label) m.triangles.push_back({tri[0], tri[2], tri[1]});
+  }
+  return m;
+}
+
+int64_t boundary_defects(const TriangleMesh& c, int64_t label) {
+  std::unordered_map<uint64_t, std::pair<int, int>> edges;  // count, directions summed
+  const TriangleMesh m = label_boundary(c, label);
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+      auto& e = edges[edge_key(a, b)];
+      ++e.first;
+      e.second += a < b ? 1 : -1;
+    }
+  int64_t n = 0;
+  for (const auto& [k, e] : edges) n += e.first != 2 || e.second != 0;
+  return n;
+}
+
+std::vector<std::array<uint32_t, 2>> junction_edges(const TriangleMesh& c) {
+  std::unordered_map<uint64_t, std::vector<int32_t>> regions;  // per edge, the regions its triangles separate
+  for (size_t t = 0; t < c.triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      auto& r = regions[edge_key(c.triangles[t][size_t(k)], c.triangles[t][size_t((k + 1) % 3)])];
+      r.push_back(c.face_labels[t][0]);
+      r.push_back(c.face_labels[t][1]);
+    }
+  std::vector<std::array<uint32_t, 2>> out;
+  for (auto& [key, r] : regions) {
+    std::sort(r.begin(), r.end());
+    if (std::unique(r.begin(), r.end()) - r.begin() >= 3) out.push_back({uint32_t(key >> 32), uint32_t(key)});
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+ComplexFigures measure_complex(const TriangleMesh& c, bool crossings) {
+  ComplexFigures out;
+  const auto& V = c.vertices;
+  for (const int64_t label : complex_labels(c)) {
+    if (label == 0) continue;
+    const TriangleMesh b = label_boundary(c, label);
+    RegionFigures f;
+    f.label = label;
+    f.triangles = int64_t(b.triangles.size());
+    f.volume_mm3 = enclosed_volume(b);
+    f.defects = boundary_defects(c, label);
+    f.components = count_components(b);
+    out.regions.push_back(f);
+  }
+  const std::vector<std::array<uint32_t, 2>> jedges = junction_edges(c);
+  std::vector<char> at_junction(V.size(), 0);
+  Sets sets(V.size());
+  for (const auto& e : jedges) {
+    out.junction_length_mm += (V[e[0]] - V[e[1]]).norm();
+    at_junction[e[0]] = at_junction[e[1]] = 1;
+    sets.join(e[0], e[1]);
+  }
+  out.junction_edges = int64_t(jedges.size());
+  for (uint32_t v = 0; v < V.size(); ++v) out.junction_curves += at_junction[v] && sets.find(v) == v;
+  std::map<std::array<int32_t, 2>, InterfaceFigures> by_pair;
+  double rr_sum = 0;
+  out.min_angle_deg = out.min_angle_off_junction_deg = 180;
+  for (size_t t = 0; t < c.triangles.size(); ++t) {
+    const auto& tri = c.triangles[t];
+    const Eigen::Vector3d &a = V[tri[0]], &b = V[tri[1]], &d = V[tri[2]];
+    const double angle = triangle_min_angle_deg(a, b, d), rr = triangle_radius_ratio(a, b, d);
+    InterfaceFigures& f = by_pair[c.face_labels[t]];
+    if (f.triangles == 0) {
+      f.label_a = c.face_labels[t][0];
+      f.label_b = c.face_labels[t][1];
+      f.min_angle_deg = 180;
+    }
+    ++f.triangles;
+    f.area_mm2 += 0.5 * (b - a).cross(d - a).norm();
+    f.min_angle_deg = std::min(f.min_angle_deg, angle);
+    f.mean_radius_ratio += rr;
+    rr_sum += rr;
+    out.min_angle_deg = std::min(out.min_angle_deg, angle);
+    if (!at_junction[tri[0]] && !at_junction[tri[1]] && !at_junction[tri[2]])
+      out.min_angle_off_junction_deg = std::min(out.min_angle_off_junction_deg, angle);
+  }
+  for (auto& [pair, f] : by_pair) {
+    f.mean_radius_ratio /= double(f.triangles);
+    out.interfaces.push_back(f);
+  }
+  if (!c.triangles.empty()) out.mean_radius_ratio = rr_sum / double(c.triangles.size());
+  if (crossings) {
+    TriangleMesh soup;
+    soup.vertices = V;
+    soup.triangles = c.triangles;
+    out.crossing_pairs = int64_t(intersecting_triangles(soup, nullptr, false).size());
+  }
+  return out;
+}
+
+}  // namespace mpumesh::multi

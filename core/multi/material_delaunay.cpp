@@ -1,0 +1,215 @@
+#include "multi/material_delaunay.h"
+
+#include <CGAL/Delaunay_triangulation_3.h>
+#include <CGAL/Delaunay_triangulation_cell_base_3.h>
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/Triangulation_cell_base_with_info_3.h>
+#include <CGAL/Triangulation_vertex_base_with_info_3.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+#include <unordered_map>
+
+#include "common/error.h"
+#include "mesh/circumcentre.h"
+
+namespace mpumesh::multi {
+namespace {
+
+using K = CGAL::Epick;
+using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
+using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
+using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
+using Dt = CGAL::Delaunay_triangulation_3<K, Tds>;
+using Point = K::Point_3;
+using Cell = Dt::Cell_handle;
+constexpr int kUnlabelled = -2;
+constexpr int kMaxRounds = 12;
+
+Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
+
+// The circumcentre from the vertices in id order (the same bits whichever order the cell
+// lists them in).
+Eigen::Vector3d centre(Cell c) {
+  std::array<Dt::Vertex_handle, 4> v = {c->vertex(0), c->vertex(1), c->vertex(2), c->vertex(3)};
+  std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a->info() < b->info(); });
+  return robust_circumcentre(vec(v[0]->point()), vec(v[1]->point()), vec(v[2]->point()), vec(v[3]->point()));
+}
+
+int region_of(const Dt& dt, Cell c) { return dt.is_infinite(c) ? 0 : c->info(); }
+
+void label_new_cells(const MaterialField& field, Dt& dt) {
+  std::vector<Cell> todo;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
+    if (c->info() == kUnlabelled) todo.push_back(c);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) todo[k]->info() = field.region_at(centre(todo[k]));
+  });
+}
+
+struct Facet {
+  Cell cell;  // the lower region's side
+  int i;
+  std::array<uint32_t, 3> v;  // normal out of `cell`
+  std::array<int, 2> regions;
+};
+
+// Each facet between two regions once, from the lower region's side (the background's
+// side of a facet on the hull is the infinite cell, seen from the finite one).
+std::vector<Facet> complex_facets(const Dt& dt) {
+  const auto orientation = dt.geom_traits().orientation_3_object();
+  std::vector<Facet> out;
+  for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
+    const int rc = c->info();
+    for (int i = 0; i < 4; ++i) {
+      const Cell n = c->neighbor(i);
+      const bool hull = dt.is_infinite(n);
+      const int rn = region_of(dt, n);
+      if (hull ? rc == 0 : rc >= rn) continue;
+      auto a = c->vertex((i + 1) & 3), b = c->vertex((i + 2) & 3), d = c->vertex((i + 3) & 3);
+      if (orientation(a->point(), b->point(), d->point(), c->vertex(i)->point()) == CGAL::POSITIVE) std::swap(b, d);
+      if (hull) out.push_back({c, i, {a->info(), d->info(), b->info()}, {0, rc}});  // into c
+      else out.push_back({c, i, {a->info(), b->info(), d->info()}, {rc, rn}});      // out of c
+    }
+  }
+  return out;
+}
+
+struct EdgeUse {
+  int count = 0, balance = 0;  // facets, and their directions (+1 a->b, -1 b->a) summed
+  size_t widest = SIZE_MAX;
+  double area = -1;
+};
+
+// Region r's boundary edges with other than two facets or an unbalanced orientation, each
+// with its widest facet.
+std::vector<size_t> defective_facets(const std::vector<Facet>& facets, const std::vector<Eigen::Vector3d>& pts,
+                                     int regions, int64_t* defects) {
+  std::vector<size_t> out;
+  int64_t n = 0;
+  for (int r = 0; r < regions; ++r) {
+    std::unordered_map<uint64_t, EdgeUse> edges;
+    for (size_t f = 0; f < facets.size(); ++f) {
+      const Facet& F = facets[f];
+      if (F.regions[0] != r && F.regions[1] != r) continue;
+      const double area = (pts[F.v[1]] - pts[F.v[0]]).cross(pts[F.v[2]] - pts[F.v[0]]).norm();
+      const int sign = F.regions[0] == r ? 1 : -1;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t a = F.v[size_t(k)], b = F.v[size_t((k + 1) % 3)];
+        EdgeUse& e = edges[edge_key(a, b)];
+        ++e.count;
+        e.balance += (a < b ? 1 : -1) * sign;
+        if (area > e.area) {
+          e.area = area;
+          e.widest = f;
+        }
+      }
+    }
+    for (const auto& [key, e] : edges)
+      if (e.count != 2 || e.balance != 0) {
+        ++n;
+        out.push_back(e.widest);
+      }
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  if (defects) *defects = n;
+  return out;
+}
+
+// Where the labelling changes along the facet's dual Voronoi edge, first from the lower
+// region's side, on the interface of the two regions met there; false when none is found.
+bool dual_crossing(const MaterialField& field, const Dt& dt, const Facet& F, Eigen::Vector3d& x) {
+  const Cell n = F.cell->neighbor(F.i);
+  if (dt.is_infinite(F.cell) || dt.is_infinite(n)) return false;
+  Eigen::Vector3d lo = centre(F.cell), hi = centre(n);
+  const int r0 = field.region_at(lo);
+  if (field.region_at(hi) == r0) return false;
+  for (int it = 0; it < 40; ++it) {
+    const Eigen::Vector3d mid = 0.5 * (lo + hi);
+    (field.region_at(mid) == r0 ? lo : hi) = mid;
+  }
+  const int r1 = field.region_at(hi);
+  x = 0.5 * (lo + hi);
+  const double reach = std::max((hi - lo).norm(), 0.25 * (centre(F.cell) - centre(n)).norm());
+  Eigen::Vector3d p = x;
+  if (field.project_interface(p, std::min(r0, r1), std::max(r0, r1), reach)) x = p;
+  return true;
+}
+
+}  // namespace
+
+MaterialComplex material_delaunay(const MaterialField& field, const std::vector<ComplexParticle>& particles,
+                                  ComplexDelaunayStats* stats_out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ComplexDelaunayStats st;
+  st.points = int64_t(particles.size());
+  if (particles.size() < 4) throw InputError("triangulate: fewer than 4 particles on the complex");
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<uint8_t> held;
+  std::vector<std::pair<Point, uint32_t>> in;
+  for (const ComplexParticle& p : particles) {
+    in.emplace_back(Point(p.p.x(), p.p.y(), p.p.z()), uint32_t(pts.size()));
+    pts.push_back(p.p);
+    held.push_back(p.kind != ParticleKind::kInterface);
+  }
+  Dt dt;
+  dt.insert(in.begin(), in.end());
+  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) c->info() = kUnlabelled;
+  std::vector<Facet> facets;
+  for (int round = 0;; ++round) {
+    label_new_cells(field, dt);
+    facets = complex_facets(dt);
+    const std::vector<size_t> bad = defective_facets(facets, pts, field.regions(), &st.bad_edges);
+    if (bad.empty() || round == kMaxRounds) break;
+    ++st.repair_rounds;
+    std::vector<Eigen::Vector3d> add;
+    for (size_t f : bad) {
+      Eigen::Vector3d x;
+      if (dual_crossing(field, dt, facets[f], x)) add.push_back(x);
+    }
+    if (add.empty()) break;
+    for (const Eigen::Vector3d& x : add) {
+      const size_t n0 = dt.number_of_vertices();
+      const Dt::Vertex_handle v = dt.insert(Point(x.x(), x.y(), x.z()));
+      if (dt.number_of_vertices() == n0) continue;
+      v->info() = uint32_t(pts.size());
+      pts.push_back(x);
+      held.push_back(0);
+      ++st.repair_points;
+      std::vector<Cell> around;
+      dt.incident_cells(v, std::back_inserter(around));
+      for (Cell c : around) c->info() = kUnlabelled;
+    }
+  }
+  st.cells = int64_t(dt.number_of_finite_cells());
+  // Triangles in a canonical order; vertices those used, in the given order.
+  for (Facet& f : facets) std::rotate(f.v.begin(), std::min_element(f.v.begin(), f.v.end()), f.v.end());
+  std::sort(facets.begin(), facets.end(), [](const Facet& a, const Facet& b) {
+    return a.regions != b.regions ? a.regions < b.regions : a.v < b.v;
+  });
+  MaterialComplex out;
+  for (int r = 0; r < field.regions(); ++r) out.labels.push_back(int(field.label(r)));
+  std::vector<uint32_t> index(pts.size(), UINT32_MAX);
+  for (const Facet& f : facets)
+    for (uint32_t v : f.v) index[v] = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (index[i] == UINT32_MAX) continue;
+    index[i] = uint32_t(out.mesh.vertices.size());
+    out.mesh.vertices.push_back(pts[i]);
+    out.held.push_back(held[i]);
+  }
+  for (const Facet& f : facets) {
+    out.mesh.triangles.push_back({index[f.v[0]], index[f.v[1]], index[f.v[2]]});
+    out.regions.push_back(f.regions);
+    out.mesh.face_labels.push_back({int32_t(field.label(f.regions[0])), int32_t(field.label(f.regions[1]))});
+  }
+  st.facets = int64_t(facets.size());
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (stats_out) *stats_out = st;
+  return out;
+}
+
+}  // namespace mpumesh::multi

@@ -1,0 +1,43 @@
+// One restricted Delaunay triangulation of a multi-material complex's particles (docs/
+// method.md "Several labels"): CGAL's Delaunay triangulation of all of them, each
+// Voronoi vertex (a cell's circumcentre, computed robustly as for one surface) labelled
+// by the field's region there, the infinite cells the background's. A facet is kept when
+// its dual Voronoi edge joins two regions a < b; it is oriented from a into b and tagged
+// with the pair, once. The facets bound unions of cells, so every region's boundary has
+// an even number of facets at each edge; where it has more than two (a sample too thin
+// there), the crossing of the widest such facet's Voronoi edge with the labelling is
+// added as a point (on the interface of the two regions it separates), round by round,
+// as the one-surface triangulation does.
+#pragma once
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "geometry/triangle_mesh.h"
+#include "multi/complex_sampling.h"
+#include "multi/material_field.h"
+
+namespace mpumesh::multi {
+
+struct MaterialComplex {
+  // Each triangle oriented from region pair[0] into pair[1]; mesh.face_labels holds the
+  // two regions' labels (multi/complex_figures.h reads a complex from it).
+  TriangleMesh mesh;
+  std::vector<std::array<int, 2>> regions;  // per triangle, a < b
+  std::vector<int> labels;                  // region r's label (labels[0] = 0)
+  std::vector<uint8_t> held;                // per vertex: 1 on a junction curve or corner
+};
+
+struct ComplexDelaunayStats {
+  int64_t points = 0, cells = 0, facets = 0;
+  int64_t repair_points = 0, repair_rounds = 0;
+  int64_t bad_edges = 0;  // edges of a region's boundary with other than two facets, left
+  double seconds = 0;
+};
+
+MaterialComplex material_delaunay(const MaterialField& field, const std::vector<ComplexParticle>& particles,
+                                  ComplexDelaunayStats* stats = nullptr);
+
+}  // namespace mpumesh::multi

@@ -1,0 +1,146 @@
+#include "multi/material_field.h"
+
+#include <algorithm>
+#include <numeric>
+
+#include "mpu/mpu_eval_ref.h"
+
+namespace mpumesh::multi {
+
+bool within_fit(const mpu::MpuSurface& s, const Eigen::Vector3d& p) {
+  const double margin = 0.005 * s.box_size;
+  return !((p.array() < s.data_min.array() - margin).any() || (p.array() > s.data_max.array() + margin).any());
+}
+
+MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits,
+                             const mpu::MpuSurface* outside, const RegionSupport* support)
+    : labels_(std::move(labels)), fits_(std::move(fits)), outside_(outside), support_(support) {}
+
+namespace {
+// A region beyond its support: never the most inside.
+constexpr double kUnsupported = 1e30;
+}  // namespace
+
+// A label's function (far outside beyond its box) or the union's.
+double MaterialField::f_of(int r, const Eigen::Vector3d& p, Eigen::Vector3d* g) const {
+  const mpu::MpuSurface& s = r < 0 ? *outside_ : *fits_[size_t(r - 1)];
+  if (!within_fit(s, p)) {
+    if (g) g->setZero();
+    return s.box_size;
+  }
+  if (!g) return mpu::evaluate_f(s, p);
+  const mpu::Sample e = mpu::evaluate_fg(s, p);
+  *g = e.g;
+  return e.f;
+}
+
+void MaterialField::values(const Eigen::Vector3d& p, std::vector<double>& f) const {
+  f.assign(size_t(regions()), 0.0);
+  double lowest = INFINITY;
+  for (int r = 1; r < regions(); ++r) lowest = std::min(lowest, f[size_t(r)] = f_of(r, p, nullptr));
+  f[0] = outside_ ? -f_of(-1, p, nullptr) : -lowest;
+  if (support_)
+    for (int r = 0; r < regions(); ++r)
+      if (!support_->allows(r, p)) f[size_t(r)] = kUnsupported;
+}
+
+void MaterialField::values_and_gradients(const Eigen::Vector3d& p, std::vector<double>& f,
+                                         std::vector<Eigen::Vector3d>& g) const {
+  f.assign(size_t(regions()), 0.0);
+  g.assign(size_t(regions()), Eigen::Vector3d::Zero());
+  int lowest = 0;
+  for (int r = 1; r < regions(); ++r) {
+    f[size_t(r)] = f_of(r, p, &g[size_t(r)]);
+    if (lowest == 0 || f[size_t(r)] < f[size_t(lowest)]) lowest = r;
+  }
+  if (outside_) {
+    f[0] = -f_of(-1, p, &g[0]);
+    g[0] = -g[0];
+  } else {
+    f[0] = -f[size_t(lowest)];
+    g[0] = -g[size_t(lowest)];
+  }
+  if (support_)
+    for (int r = 0; r < regions(); ++r)
+      if (!support_->allows(r, p)) f[size_t(r)] = kUnsupported;
+}
+
+int MaterialField::region_at(const Eigen::Vector3d& p) const {
+  std::vector<double> f;
+  values(p, f);
+  return int(std::min_element(f.begin(), f.end()) - f.begin());
+}
+
+std::vector<int> MaterialField::ranked(const Eigen::Vector3d& p) const {
+  std::vector<double> f;
+  values(p, f);
+  std::vector<int> order(f.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return f[size_t(a)] < f[size_t(b)]; });
+  return order;
+}
+
+namespace {
+// Newton converges to this fraction of the largest move.
+constexpr double kTolerance = 1e-7;
+constexpr int kSteps = 12;
+}  // namespace
+
+bool MaterialField::project_interface(Eigen::Vector3d& p, int a, int b, double max_move) const {
+  const Eigen::Vector3d start = p;
+  std::vector<double> f;
+  std::vector<Eigen::Vector3d> g;
+  for (int it = 0; it < kSteps; ++it) {
+    values_and_gradients(p, f, g);
+    const double d = f[size_t(a)] - f[size_t(b)];
+    const Eigen::Vector3d grad = g[size_t(a)] - g[size_t(b)];
+    const double g2 = grad.squaredNorm();
+    if (!(g2 > 1e-12)) return false;
+    const Eigen::Vector3d step = d / g2 * grad;
+    p -= step;
+    if ((p - start).norm() > max_move) return false;
+    if (step.norm() < kTolerance * max_move) return true;
+  }
+  return false;
+}
+
+bool MaterialField::project_junction(Eigen::Vector3d& p, const std::array<int, 3>& abc, double max_move) const {
+  const Eigen::Vector3d start = p;
+  std::vector<double> f;
+  std::vector<Eigen::Vector3d> g;
+  for (int it = 0; it < kSteps; ++it) {
+    values_and_gradients(p, f, g);
+    Eigen::Matrix<double, 2, 3> J;
+    J.row(0) = (g[size_t(abc[0])] - g[size_t(abc[1])]).transpose();
+    J.row(1) = (g[size_t(abc[0])] - g[size_t(abc[2])]).transpose();
+    const Eigen::Vector2d r(f[size_t(abc[0])] - f[size_t(abc[1])], f[size_t(abc[0])] - f[size_t(abc[2])]);
+    const Eigen::Matrix2d JJ = J * J.transpose();
+    if (!(std::abs(JJ.determinant()) > 1e-10)) return false;
+    const Eigen::Vector3d step = J.transpose() * JJ.ldlt().solve(r);
+    p -= step;
+    if ((p - start).norm() > max_move) return false;
+    if (step.norm() < kTolerance * max_move) return true;
+  }
+  return false;
+}
+
+Eigen::Vector3d MaterialField::junction_tangent(const Eigen::Vector3d& p, const std::array<int, 3>& abc) const {
+  std::vector<double> f;
+  std::vector<Eigen::Vector3d> g;
+  values_and_gradients(p, f, g);
+  const Eigen::Vector3d t = (g[size_t(abc[0])] - g[size_t(abc[1])]).cross(g[size_t(abc[0])] - g[size_t(abc[2])]);
+  const double n = t.norm();
+  return n > 1e-12 ? Eigen::Vector3d(t / n) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d MaterialField::interface_normal(const Eigen::Vector3d& p, int a, int b) const {
+  std::vector<double> f;
+  std::vector<Eigen::Vector3d> g;
+  values_and_gradients(p, f, g);
+  // f_a rises and f_b falls going from a into b.
+  const Eigen::Vector3d n = g[size_t(a)] - g[size_t(b)];
+  const double len = n.norm();
+  return len > 1e-12 ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace mpumesh::multi

@@ -1,0 +1,37 @@
+// Where each region of a label map may be: its voxels, dilated by kSupportVoxels voxels
+// along each grid axis. A fitted MPU function is trustworthy near its own points only:
+// away from them its leaves extrapolate, and a label's function can go negative inside
+// another label (on the sectors phantom, f = -4 mm 9 mm from that label's voxels). The
+// labelling (multi/material_field.h) lets a region compete only where its support
+// reaches, so that deep inside a label only that label is a candidate; near an
+// interface both of its regions are. One bit per voxel and region.
+#pragma once
+
+#include <Eigen/Dense>
+#include <cstdint>
+#include <vector>
+
+#include "volume/volume.h"
+
+namespace mpumesh::multi {
+
+// Two voxels: a label's fitted surface lies within a voxel of its voxels' boundary.
+inline constexpr int kSupportVoxels = 2;
+
+class RegionSupport {
+ public:
+  // Region r > 0 is the voxels holding labels[r-1]; region 0 every other voxel.
+  RegionSupport(const Volume& map, const std::vector<int64_t>& labels);
+  // Whether region r may be at p; beyond the grid only the background may.
+  bool allows(int r, const Eigen::Vector3d& p) const;
+  int regions() const { return int(bits_.size()); }
+
+ private:
+  int64_t voxel_of(const Eigen::Vector3d& p) const;  // -1 beyond the grid
+  std::array<int64_t, 3> dims_;
+  Eigen::Vector3d origin_, spacing_;
+  Eigen::Matrix3d to_index_;
+  std::vector<std::vector<uint64_t>> bits_;
+};
+
+}  // namespace mpumesh::multi
