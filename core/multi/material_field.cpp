@@ -28,10 +28,12 @@ double MaterialField::f_of(int r, const Eigen::Vector3d& p, Eigen::Vector3d* g) 
     if (g) g->setZero();
     return s.box_size;
   }
-  if (!g) return mpu::evaluate_f(s, p);
+  // f over its gradient's length: a first-order signed distance, so that two regions'
+  // functions compare as distances whatever their fits' slopes.
   const mpu::Sample e = mpu::evaluate_fg(s, p);
-  *g = e.g;
-  return e.f;
+  const double len = e.g.norm();
+  if (g) *g = len > 1e-9 ? Eigen::Vector3d(e.g / len) : e.g;
+  return len > 1e-9 ? e.f / len : e.f;
 }
 
 void MaterialField::values(const Eigen::Vector3d& p, std::vector<double>& f) const {

@@ -49,7 +49,7 @@ void sample_face(const MaterialPhantom& m, int a, int b, const Eigen::Vector3d (
   const double angle = angle_between(cr, n) * 180 / M_PI;
   s.angle.push_back(angle);
   s.angle_w.push_back(area);
-  if (m.junction_distance(c) > rim) {
+  if (m.rim_distance(c) > rim) {
     s.angle_away.push_back(angle);
     s.angle_away_w.push_back(area);
   }
@@ -95,6 +95,8 @@ ComplexTruth complex_truth(const MaterialPhantom& m, const TriangleMesh& c, doub
   out.distance_p99 = whole.distance_p99;
   out.normal_mean_deg = whole.normal_mean_deg;
   out.normal_p95_deg = whole.normal_p95_deg;
+  out.normal_mean_away_deg = whole.normal_mean_away_deg;
+  out.normal_p95_away_deg = whole.normal_p95_away_deg;
   // Junctions: points along our junction edges against the true curves, and the true
   // curves' points against our edges.
   const auto edges = multi::junction_edges(c);

@@ -18,7 +18,8 @@ struct InterfaceTruth {
   bool true_interface = false;  // the phantom has an interface (a, b)
   double distance_mean = 0, distance_p99 = 0;        // mm, area-weighted samples
   double normal_mean_deg = 0, normal_p95_deg = 0;    // faces, area-weighted
-  // The same over the faces farther than `rim` from every junction curve (sharp rims).
+  // The same over the faces farther than `rim` from every junction curve and sharp rim
+  // (MaterialPhantom::rim_distance).
   double normal_mean_away_deg = 0, normal_p95_away_deg = 0;
 };
 
@@ -31,6 +32,7 @@ struct ComplexTruth {
   std::vector<InterfaceTruth> interfaces;
   std::vector<LabelTruth> labels;
   double distance_mean = 0, distance_p99 = 0, normal_mean_deg = 0, normal_p95_deg = 0;  // all interfaces
+  double normal_mean_away_deg = 0, normal_p95_away_deg = 0;                            // away from rims
   double junction_p95 = 0, junction_max = 0;       // our junction edges' points to the true curves
   double junction_cover_p95 = 0;                   // the true curves' points to our junction edges
   int64_t junction_edges = 0;
@@ -38,8 +40,8 @@ struct ComplexTruth {
   int64_t foreign_triangles = 0;  // tagged with a pair the phantom has no interface for
 };
 
-// `rim`: the distance from a junction curve within which faces are left out of the
-// "away" normals (mm).
+// `rim`: the distance from a junction curve or sharp rim within which faces are left out
+// of the "away" normals (mm).
 ComplexTruth complex_truth(const MaterialPhantom& m, const TriangleMesh& complex, double rim);
 
 }  // namespace mpumesh::phantom

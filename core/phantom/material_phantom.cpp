@@ -230,6 +230,16 @@ double MaterialPhantom::junction_distance(const Eigen::Vector3d& p) const {
   return best;
 }
 
+double MaterialPhantom::rim_distance(const Eigen::Vector3d& p) const {
+  const Eigen::Vector3d q = rotation.transpose() * (p - centre);
+  // A circle of radius r in the plane z = z0 of the local frame.
+  auto circle = [&](double r, double z0) { return std::hypot(std::hypot(q.x(), q.y()) - r, q.z() - z0); };
+  double rim = kInfinity;
+  if (kind == kSectors) rim = std::min(circle(radius, -inner), circle(radius, inner));
+  if (kind == kJoint) rim = std::min(circle(radius + inner, 0), circle(radius + inner + thickness, 0));
+  return std::min(rim, junction_distance(p));
+}
+
 std::vector<Eigen::Vector3d> MaterialPhantom::junction_points(double step) const {
   std::vector<Eigen::Vector3d> local;
   if (kind == kSplitBall) {

@@ -49,6 +49,9 @@ struct MaterialPhantom {
                             Eigen::Vector3d* closest = nullptr) const;
   // The distance from p to the nearest junction curve (infinity where there is none).
   double junction_distance(const Eigen::Vector3d& p) const;
+  // The distance from p to the nearest junction curve or sharp rim of one interface (the
+  // sectors' end-face circles, the cup's rim): where the true normal jumps.
+  double rim_distance(const Eigen::Vector3d& p) const;
   // Points along every junction curve, at most `step` mm apart.
   std::vector<Eigen::Vector3d> junction_points(double step) const;
   // The largest distance of a labelled point from the centre (for the grid).

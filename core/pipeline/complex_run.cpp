@@ -63,8 +63,12 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   ComplexResult out;
   std::vector<std::unique_ptr<mpu::MpuSurface>> fits;
   std::vector<TriangleMesh> meshes;
+  // Each label's fit passes through the faces it shares with its neighbours, so that two
+  // touching labels' fits meet there.
+  RunOptions each = base;
+  each.label_shares_faces = true;
   out.labels = run_labels(
-      vol, labels, skip_failures, base, open_backend, &obs,
+      vol, labels, skip_failures, each, open_backend, &obs,
       [&](LabelRun& run) {
         fits.push_back(std::make_unique<mpu::MpuSurface>(run.result.surface));
         meshes.push_back(run.result.mesh);

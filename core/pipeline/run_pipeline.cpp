@@ -122,7 +122,8 @@ void use_label(Derived& d) {
 PointCloud points_from_volume(Run& run, const Volume& scan) {
   run.backend = &run.open();
   std::optional<Volume> indicator;
-  if (run.opt.label > 0) indicator = stage(run.obs, "label", [&] { return seg::label_indicator(scan, run.opt.label); });
+  if (run.opt.label > 0) indicator = stage(run.obs, "label", [&] { return seg::label_indicator(scan, run.opt.label, run.opt.label_shares_faces ? 0.0f : -1.0f);
+  });
   const Volume& vol = indicator ? *indicator : scan;
   const Derived& d = run.r.derived;
   const seg::Segmentation s = stage(run.obs, "segment", [&] { return seg::segment(vol, d.segment, *run.backend); });

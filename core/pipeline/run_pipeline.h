@@ -47,6 +47,10 @@ struct RunOptions {
   // Above 0: the volume is a label map and this label is meshed (seg/label_map.h); the
   // segmentation is its indicator's threshold at 0.5, whatever `segment` says.
   int64_t label = 0;
+  // With `label`: the other labels count as background, so that the fit passes through
+  // the faces the label shares with them (seg::label_indicator); the complex's label runs
+  // set it (pipeline/complex_run.h).
+  bool label_shares_faces = false;
   mpu::FitOptions fit;  // eps 0: from the scan (mpu/fit_tolerance.h), or from the points
   // particles and spacing 0: the default count, which follows the volume's voxel size.
   particles::SampleOptions sample;

@@ -25,7 +25,7 @@ std::string too_small_to_mesh(int64_t voxels) {
 
 std::string label_name(const std::string& source, int64_t label) { return fmt::format("{} (label {})", source, label); }
 
-Volume label_indicator(const Volume& labels, int64_t label) {
+Volume label_indicator(const Volume& labels, int64_t label, float others) {
   Volume v = labels;
   v.source = label_name(labels.source, label);
   const float l = float(label);
@@ -33,7 +33,7 @@ Volume label_indicator(const Volume& labels, int64_t label) {
   for (float& x : v.voxels) {
     require_whole(x, labels.source);
     n += x == l;
-    x = x == l ? 1.0f : x == 0.0f ? 0.0f : -1.0f;
+    x = x == l ? 1.0f : x == 0.0f ? 0.0f : others;
   }
   if (n == 0) throw InputError(v.source + ": no voxel holds this label");
   const std::string small = too_small_to_mesh(n);

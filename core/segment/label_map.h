@@ -26,9 +26,12 @@ namespace mpumesh::seg {
 std::string label_name(const std::string& source, int64_t label);
 
 // The indicator of `label` (see above), with the volume's geometry and the label's name
-// as its source. Throws InputError when a voxel is not a whole number (not a label map),
-// or when no voxel holds the label, or too few.
-Volume label_indicator(const Volume& labels, int64_t label);
+// as its source; `others` is the value on the other labels' voxels (-1 above; 0 counts
+// them as background, so that the contour passes through the faces the label shares with
+// them, as a multi-material complex wants: pipeline/complex_run.h). Throws InputError
+// when a voxel is not a whole number (not a label map), or when no voxel holds the
+// label, or too few.
+Volume label_indicator(const Volume& labels, int64_t label, float others = -1.0f);
 
 // The voxel count of every non-zero label. Throws InputError naming the volume when a
 // voxel is not a whole number (not a label map) or there are more than kMaxLabels labels

@@ -51,7 +51,10 @@ void expect_closed_and_uncrossed(const Meshed& m, int64_t shells = 0) {
 }
 
 // Tolerances, once: the interfaces within a fifth of the in-plane voxel on average
-// (0.06-0.09 mm measured), every label's volume within 2% (0.2-1.5% measured).
+// (0.05-0.08 mm measured), every label's volume within 2% (0.5-1.5% measured), the
+// normals away from junctions and sharp rims within 2.5 degrees on average on the split
+// ball (1.85 measured) and 4.5 on the sectors (3.7; one seam lies nearly along the
+// slices).
 constexpr double kDistanceMean = 0.14, kVolume = 0.02;
 
 TEST(ComplexRun, SplitBallSharesItsDiscAndMeetsAlongTheCircle) {
@@ -65,12 +68,14 @@ TEST(ComplexRun, SplitBallSharesItsDiscAndMeetsAlongTheCircle) {
   EXPECT_LT(m.truth.junction_p95, 1.05);
   EXPECT_LT(m.truth.junction_cover_p95, 1.05);
   EXPECT_GT(m.result.sample.junction_particles, 20);
+  EXPECT_LT(m.truth.normal_mean_away_deg, 2.5);
 }
 
 TEST(ComplexRun, SectorsMeetAlongTheAxisSeamsAndRadii) {
   const Meshed m = mesh_phantom("sectors");
   expect_closed_and_uncrossed(m);
   EXPECT_EQ(m.result.figures.interfaces.size(), 6u);
+  EXPECT_LT(m.truth.normal_mean_away_deg, 4.5);
   EXPECT_LT(m.truth.distance_mean, kDistanceMean);
   EXPECT_LT(m.truth.worst_volume_error, kVolume);
   EXPECT_LT(m.truth.junction_p95, 1.05);
