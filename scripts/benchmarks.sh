@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the benchmarks on this machine and writes their output, with the date, the commit
-# and the machine, to docs/benchmarks.md; renders the README's picture (docs/skull.png)
-# from the sample CT. Every figure in that file is what the benchmark printed in this run.
+# and the machine, to docs/benchmarks.md; renders the README's pictures (docs/skull.png
+# from the sample CT, the label-map and complex pictures). Every figure in that file is what the benchmark printed in this run.
 # Usage: bash scripts/benchmarks.sh   (after scripts/setup.sh; takes 10-20 minutes on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -100,6 +100,10 @@ done
   --zoom 124,110,120,65 --range=-0.01:0.01 --size 560x420 --title "voxel tolerance" --quiet
 "$B/mpumesh" render "$tmp/bone_grid.ply" -o docs/label_after.png --color curvature --view=0.2,0.5,1 \
   --zoom 124,110,120,65 --range=-0.01:0.01 --size 560x420 --title "grid-step tolerance" --quiet
+# The complex of three labels meeting along an axis, coloured by label.
+"$B/mpumesh_bench_materials" cpu --no-mesh3 sectors > /dev/null
+"$B/mpumesh" render "${TMPDIR:-/tmp}/mpumesh_bench_materials/sectors/complex.ply" -o docs/complex_labels.png \
+  --color label --size 560x420 --title "three labels meeting along an axis" --quiet
 
 {
   echo "# Benchmarks"

@@ -30,7 +30,8 @@ void add_render_command(CLI::App& app, CommonOptions& common, std::function<void
   cmd->add_option("-o,--output", o->output, "image: .png")->required();
   cmd->add_option("--color", o->color,
                   "none, curvature (Gaussian K: the mesh's own from `run`, else estimated from the mesh), "
-                  "min-angle (each triangle's smallest angle) or edge-length")
+                  "min-angle (each triangle's smallest angle), edge-length, or label (a complex of `run --labels`: its outer "
+                  "faces coloured by the label they bound)")
       ->capture_default_str();
   cmd->add_option("--view", o->view, "iso, front, side, top, or x,y,z: the direction toward the viewer (LPS)")
       ->capture_default_str();

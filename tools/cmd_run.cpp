@@ -231,7 +231,13 @@ void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const
   pending.commit();
   const multi::ComplexFigures& f = r.figures;
   int64_t open_edges = 0;
-  for (const multi::RegionFigures& g : f.regions) open_edges += g.defects;
+  for (const multi::RegionFigures& g : f.regions) {
+    open_edges += g.defects;
+    if (g.defects > 0 && !common.quiet)
+      std::cerr << fmt::format("mpumesh: warning: label {}'s boundary in the complex has {} edges that are not closed "
+                               "and oriented (a sample too sparse there)\n",
+                               g.label, g.defects);
+  }
   if (talk)
     std::cout << fmt::format(
         "{}: {} labels, {} triangles, {} interfaces, {} junction curves ({:.1f} mm), smallest angle {:.1f} deg, "

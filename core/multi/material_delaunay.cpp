@@ -26,7 +26,7 @@ using Dt = CGAL::Delaunay_triangulation_3<K, Tds>;
 using Point = K::Point_3;
 using Cell = Dt::Cell_handle;
 constexpr int kUnlabelled = -2;
-constexpr int kMaxRounds = 12;
+constexpr int kMaxRounds = 40;
 
 Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 

@@ -109,7 +109,8 @@ ColorBy parse_color(const std::string& s) {
   if (s == "curvature") return ColorBy::kCurvature;
   if (s == "min-angle") return ColorBy::kMinAngle;
   if (s == "edge-length") return ColorBy::kEdgeLength;
-  throw InputError(option_ref("color") + ": '" + s + "' is none of none, curvature, min-angle, edge-length");
+  if (s == "label") return ColorBy::kLabel;
+  throw InputError(option_ref("color") + ": '" + s + "' is none of none, curvature, min-angle, edge-length, label");
 }
 
 Eigen::Vector3f colormap(int map, float t) {
@@ -154,6 +155,10 @@ std::vector<float> corner_values(const TriangleMesh& mesh, const RenderOptions& 
       const double e = ((p[1] - p[0]).norm() + (p[2] - p[1]).norm() + (p[0] - p[2]).norm()) / 3;
       for (int c = 0; c < 3; ++c) corner[f * 3 + size_t(c)] = float(e);
       sample.push_back(e);
+    } else if (opt.color == ColorBy::kLabel) {
+      const double l = mesh.face_labels[f][1];
+      for (int c = 0; c < 3; ++c) corner[f * 3 + size_t(c)] = float(l);
+      sample.push_back(l);
     }
   }
   if (opt.color == ColorBy::kCurvature) {
@@ -168,6 +173,10 @@ std::vector<float> corner_values(const TriangleMesh& mesh, const RenderOptions& 
     double lo = percentile(sample, 0.01), hi = percentile(sample, 0.99);
     if (!(hi > lo)) hi = lo + 1e-6;
     lg = {true, "mean edge length of each triangle (mm)", lo, hi, RENDER_CMAP_SEQUENTIAL};
+  } else if (opt.color == ColorBy::kLabel) {
+    const double lo = *std::min_element(sample.begin(), sample.end());
+    const double hi = std::max(*std::max_element(sample.begin(), sample.end()), lo + 1);
+    lg = {true, "label of the region each outer face bounds", lo, hi, RENDER_CMAP_SEQUENTIAL};
   }
   if (opt.range && lg.shown) lg.lo = opt.range->first, lg.hi = opt.range->second;
   return corner;
@@ -221,7 +230,30 @@ void place_camera(const TriangleMesh& mesh, const RenderOptions& opt, RenderScen
 
 }  // namespace
 
-RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt) {
+namespace {
+
+// A complex's faces against the background, turned toward it (a complex's faces point
+// from the lower label into the higher), with their labels.
+TriangleMesh outer_faces(const TriangleMesh& complex) {
+  if (complex.face_labels.size() != complex.triangles.size())
+    throw InputError(option_ref("color") + " label: the mesh's faces carry no label_a, label_b (not a complex)");
+  TriangleMesh out;
+  out.vertices = complex.vertices;
+  for (size_t f = 0; f < complex.triangles.size(); ++f) {
+    if (complex.face_labels[f][0] != 0) continue;
+    const auto& t = complex.triangles[f];
+    out.triangles.push_back({t[0], t[2], t[1]});
+    out.face_labels.push_back(complex.face_labels[f]);
+  }
+  return out;
+}
+
+}  // namespace
+
+RenderScene build_scene(const TriangleMesh& input, const RenderOptions& opt) {
+  TriangleMesh outer;
+  if (opt.color == ColorBy::kLabel) outer = outer_faces(input);
+  const TriangleMesh& mesh = opt.color == ColorBy::kLabel ? outer : input;
   if (mesh.triangles.empty()) throw InputError("the mesh has no triangles to render");
   MPUMESH_ASSERT(opt.supersample >= 1 && opt.width > 0 && opt.height > 0, "render size");
   RenderScene sc;

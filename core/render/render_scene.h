@@ -15,7 +15,7 @@
 
 namespace mpumesh::render {
 
-enum class ColorBy { kNone, kCurvature, kMinAngle, kEdgeLength };
+enum class ColorBy { kNone, kCurvature, kMinAngle, kEdgeLength, kLabel };
 
 struct RenderOptions {
   int width = 1024, height = 768;  // the PNG's size
@@ -63,8 +63,10 @@ struct RenderScene {
 };
 
 // The values per corner: curvature from mesh.curvature when present (else estimated from
-// the mesh, and the legend says so), the triangle's smallest angle (degrees), or its mean
-// edge length (mm). Throws InputError for an empty mesh.
+// the mesh, and the legend says so), the triangle's smallest angle (degrees), its mean
+// edge length (mm), or, for a multi-material complex (face_labels), the label of the
+// region each outer face bounds: only the faces against the background are drawn, turned
+// toward it. Throws InputError for an empty mesh, or for kLabel without face labels.
 RenderScene build_scene(const TriangleMesh& mesh, const RenderOptions& opt);
 
 // The colour bar with its ticks and the titles, drawn onto the final (downsampled) image.

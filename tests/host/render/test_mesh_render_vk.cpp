@@ -227,6 +227,33 @@ TEST(Render, CurvatureColoursFollowTheSign) {
   EXPECT_GT(int(pi[2]), int(pi[0]) + 30) << "inner rim should be blue";
 }
 
+// A complex coloured by label: its outer faces drawn, turned outward, each with the label
+// it bounds; an inner interface not drawn; a mesh without labels refused.
+TEST(Render, ComplexColouredByLabel) {
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {10, 0, 0}, {0, 10, 0}, {0, 0, 10}};
+  // A tetrahedron whose three faces at the origin bound label 3 and whose far face bounds
+  // label 5 (from the background, 0, into the label), and one inner face (3, 5).
+  m.triangles = {{0, 1, 2}, {0, 3, 1}, {0, 2, 3}, {1, 3, 2}, {1, 2, 3}};
+  m.face_labels = {{0, 3}, {0, 3}, {0, 3}, {0, 5}, {3, 5}};
+  render::RenderOptions ro;
+  ro.color = render::ColorBy::kLabel;
+  ro.width = 160, ro.height = 120, ro.supersample = 1;
+  EXPECT_EQ(render::parse_color("label"), render::ColorBy::kLabel);
+  const render::RenderScene scene = render::build_scene(m, ro);
+  ASSERT_EQ(scene.vertices.size(), 12u);
+  EXPECT_EQ(scene.legend.lo, 3);
+  EXPECT_EQ(scene.legend.hi, 5);
+  EXPECT_EQ(scene.vertices[9].value, 5.0f);
+  // Turned toward the background: the far face's normal points away from the origin.
+  const Eigen::Vector3f a(scene.vertices[9].px, scene.vertices[9].py, scene.vertices[9].pz);
+  const Eigen::Vector3f b(scene.vertices[10].px, scene.vertices[10].py, scene.vertices[10].pz);
+  const Eigen::Vector3f c(scene.vertices[11].px, scene.vertices[11].py, scene.vertices[11].pz);
+  EXPECT_GT((b - a).cross(c - a).dot(Eigen::Vector3f(1, 1, 1)), 0);
+  m.face_labels.clear();
+  EXPECT_THROW(render::build_scene(m, ro), InputError);
+}
+
 TEST(Render, BadOptionsAreRefused) {
   EXPECT_THROW(render::parse_view("sideways"), InputError);
   EXPECT_THROW(render::parse_view("0,0,0"), InputError);
