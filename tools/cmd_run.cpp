@@ -139,25 +139,43 @@ struct PendingOutputs {
   }
 };
 
-// --labels: every label of a label map, the volume read once (pipeline/label_runs.h); the
-// report has a section per label and lists the labels skipped.
-void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
-  const bool talk = !common.json && !common.quiet;
-  // The labels' stages are shown on `shown` (each run keeps its own times); the
-  // command's own (reading, the backend) on `progress`.
-  Progress shown(!talk), progress(!talk);
-  RunObserver observer(shown, talk);
-  EarlyBackend early(o.backend);
-  progress.begin("read volume");
-  const Volume vol = read_volume(o.input);
-  progress.end();
-  const std::vector<int64_t> todo =
-      pipeline::labels_to_mesh(o.input, seg::parse_label_list(o.labels), seg::label_voxel_counts(vol));
+// What every --labels run starts from: the volume read once, the labels to mesh, the
+// backend opened when first needed. The labels' stages are shown on `shown` (each run
+// keeps its own times); the command's own (reading, the backend) on `progress`.
+struct LabelMapRun {
+  LabelMapRun(const RunCli& o, const CommonOptions& common)
+      : common(common), talk(!common.json && !common.quiet), shown(!talk), progress(!talk), observer(shown, talk),
+        early(o.backend) {
+    progress.begin("read volume");
+    vol = read_volume(o.input);
+    progress.end();
+    todo = pipeline::labels_to_mesh(o.input, seg::parse_label_list(o.labels), seg::label_voxel_counts(vol));
+    open = [this]() -> ComputeBackend& {
+      if (!choice.backend) choice = early.open(this->common, progress);
+      return *choice.backend;
+    };
+  }
+  LabelMapRun(const LabelMapRun&) = delete;
+  LabelMapRun& operator=(const LabelMapRun&) = delete;
+
+  const CommonOptions& common;
+  const bool talk;
+  Progress shown, progress;
+  RunObserver observer;
+  EarlyBackend early;
+  Volume vol;
+  std::vector<int64_t> todo;
   vk::BackendChoice choice;
-  const pipeline::BackendOpener open = [&]() -> ComputeBackend& {
-    if (!choice.backend) choice = early.open(common, progress);
-    return *choice.backend;
-  };
+  pipeline::BackendOpener open;
+};
+
+// --labels --separate: every label of a label map, the volume read once
+// (pipeline/label_runs.h); the report has a section per label and lists the labels skipped.
+void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
+  LabelMapRun lm(o, common);
+  const bool talk = lm.talk;
+  vk::BackendChoice& choice = lm.choice;
+  Progress& progress = lm.progress;
   PendingOutputs pending;
   nlohmann::json meshed = nlohmann::json::array();
   const auto on_label = [&](pipeline::LabelRun& run) {
@@ -172,7 +190,7 @@ void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonO
     meshed.push_back(report_run(o, out, html, r, choice, own, [&](nlohmann::json& j) { add_label_json(j, run); }));
   };
   const pipeline::LabelsResult result =
-      pipeline::run_labels(vol, todo, o.labels == "all", base, open, &observer, on_label);
+      pipeline::run_labels(lm.vol, lm.todo, o.labels == "all", base, lm.open, &lm.observer, on_label);
   pending.commit();
   nlohmann::json j = {{"input", o.input},
                       {"labels", meshed},
@@ -203,20 +221,9 @@ void write_complex(const RunCli& o, const pipeline::ComplexResult& r, PendingOut
 // --labels without --separate: one multi-material complex of the labels
 // (pipeline/complex_run.h).
 void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
-  const bool talk = !common.json && !common.quiet;
-  Progress shown(!talk), progress(!talk);
-  RunObserver observer(shown, talk);
-  EarlyBackend early(o.backend);
-  progress.begin("read volume");
-  const Volume vol = read_volume(o.input);
-  progress.end();
-  const std::vector<int64_t> todo =
-      pipeline::labels_to_mesh(o.input, seg::parse_label_list(o.labels), seg::label_voxel_counts(vol));
-  vk::BackendChoice choice;
-  const pipeline::BackendOpener open = [&]() -> ComputeBackend& {
-    if (!choice.backend) choice = early.open(common, progress);
-    return *choice.backend;
-  };
+  LabelMapRun lm(o, common);
+  const bool talk = lm.talk;
+  Progress& progress = lm.progress;
   PendingOutputs pending;
   const auto on_label = [&](pipeline::LabelRun& run) {
     if (!o.surface.empty()) write_mpu(run.result.surface, pending.add(with_label(o.surface, run.label)));
@@ -224,7 +231,7 @@ void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const
   pipeline::RunOptions quiet_base = base;
   quiet_base.quality.reset();
   const pipeline::ComplexResult r =
-      pipeline::run_complex(vol, todo, o.labels == "all", quiet_base, open, &observer, on_label);
+      pipeline::run_complex(lm.vol, lm.todo, o.labels == "all", quiet_base, lm.open, &lm.observer, on_label);
   progress.begin("write mesh");
   write_complex(o, r, pending);
   progress.end();

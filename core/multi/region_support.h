@@ -4,10 +4,12 @@
 // another label (on the sectors phantom, f = -4 mm 9 mm from that label's voxels). The
 // labelling (multi/material_field.h) lets a region compete only where its support
 // reaches, so that deep inside a label only that label is a candidate; near an
-// interface both of its regions are. One bit per voxel and region.
+// interface both of its regions are. One bit per voxel of each region's box (its voxels'
+// bounding box widened by the support), so that a map of many small labels costs little.
 #pragma once
 
 #include <Eigen/Dense>
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -27,10 +29,15 @@ class RegionSupport {
   int regions() const { return int(bits_.size()); }
 
  private:
-  int64_t voxel_of(const Eigen::Vector3d& p) const;  // -1 beyond the grid
+  // The voxel nearest p; false beyond the grid.
+  bool voxel_of(const Eigen::Vector3d& p, std::array<int64_t, 3>& idx) const;
+  struct Box {
+    std::array<int64_t, 3> lo{0, 0, 0}, hi{0, 0, 0};  // voxel indices, hi exclusive
+  };
   std::array<int64_t, 3> dims_;
   Eigen::Vector3d origin_, spacing_;
   Eigen::Matrix3d to_index_;
+  std::vector<Box> boxes_;
   std::vector<std::vector<uint64_t>> bits_;
 };
 

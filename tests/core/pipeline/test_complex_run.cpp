@@ -8,6 +8,7 @@
 #include "cpu/cpu_backend.h"
 #include "io/mesh_io.h"
 #include "multi/complex_figures.h"
+#include "multi/region_support.h"
 #include "phantom/complex_truth.h"
 #include "phantom/material_phantom.h"
 #include "pipeline/complex_run.h"
@@ -56,6 +57,29 @@ void expect_closed_and_uncrossed(const Meshed& m, int64_t shells = 0) {
 // ball (1.85 measured) and 4.5 on the sectors (3.7; one seam lies nearly along the
 // slices).
 constexpr double kDistanceMean = 0.14, kVolume = 0.02;
+
+// Each region competes within two voxels of its own voxels, along every axis; beyond the
+// grid only the background does.
+TEST(ComplexRun, RegionSupportReachesTwoVoxels) {
+  Volume v;
+  v.dims = {20, 10, 10};
+  v.spacing = {0.5, 0.5, 2.0};
+  v.origin = {10, 0, 0};
+  v.voxels.assign(size_t(v.voxel_count()), 0.0f);
+  v.voxels[size_t(v.index(5, 5, 5))] = 7;   // label 7: one voxel
+  v.voxels[size_t(v.index(15, 5, 5))] = 9;  // label 9, not asked for: background
+  const multi::RegionSupport s(v, {7});
+  auto at = [&](double i, double j, double k) { return v.index_to_physical({i, j, k}); };
+  EXPECT_TRUE(s.allows(1, at(5, 5, 5)));
+  EXPECT_TRUE(s.allows(1, at(7, 7, 3)));   // two voxels along each axis
+  EXPECT_FALSE(s.allows(1, at(8, 5, 5)));
+  EXPECT_FALSE(s.allows(1, at(5, 5, 8)));
+  EXPECT_FALSE(s.allows(1, at(15, 5, 5)));
+  EXPECT_TRUE(s.allows(0, at(15, 5, 5)));
+  EXPECT_TRUE(s.allows(0, at(6, 5, 5)));    // the background's voxels are next to it
+  EXPECT_FALSE(s.allows(1, at(-3, 5, 5)));  // beyond the grid
+  EXPECT_TRUE(s.allows(0, at(-3, 5, 5)));
+}
 
 TEST(ComplexRun, SplitBallSharesItsDiscAndMeetsAlongTheCircle) {
   const Meshed m = mesh_phantom("split ball");
