@@ -37,7 +37,7 @@ RegionSupport::RegionSupport(const Volume& map, const std::vector<int64_t>& labe
   std::map<int64_t, int> region;
   for (size_t k = 0; k < labels.size(); ++k) region[labels[k]] = int(k) + 1;
   const size_t n = map.voxels.size();
-  std::vector<int32_t> which(n, 0);
+  std::vector<uint16_t> which(n, 0);  // labels_to_mesh allows at most kMaxLabels (1000)
   boxes_.assign(labels.size() + 1, {});
   boxes_[0] = {{0, 0, 0}, dims_};
   for (size_t r = 1; r < boxes_.size(); ++r) boxes_[r] = {{dims_[0], dims_[1], dims_[2]}, {0, 0, 0}};
@@ -47,7 +47,7 @@ RegionSupport::RegionSupport(const Volume& map, const std::vector<int64_t>& labe
         const size_t at = size_t(map.index(i, j, k));
         const auto it = region.find(std::lround(map.voxels[at]));
         if (it == region.end()) continue;
-        which[at] = it->second;
+        which[at] = uint16_t(it->second);
         Box& b = boxes_[size_t(it->second)];
         const int64_t idx[3] = {i, j, k};
         for (int d = 0; d < 3; ++d) {
@@ -71,7 +71,7 @@ RegionSupport::RegionSupport(const Volume& map, const std::vector<int64_t>& labe
       for (int64_t j = 0; j < bd[1]; ++j)
         for (int64_t i = 0; i < bd[0]; ++i)
           m[size_t(i + bd[0] * (j + bd[1] * k))] =
-              which[size_t(map.index(i + b.lo[0], j + b.lo[1], k + b.lo[2]))] == int32_t(r);
+              which[size_t(map.index(i + b.lo[0], j + b.lo[1], k + b.lo[2]))] == r;
     for (int axis = 0; axis < 3; ++axis) dilate_axis(m, bd, axis, kSupportVoxels);
     auto& bits = bits_[r];
     bits.assign((cells + 63) / 64, 0);

@@ -85,7 +85,7 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   if (labels_touch(vol, out.labels.meshed)) {
     RunOptions whole = base;
     whole.label = 1;
-    whole.quality.reset();
+    whole.fit_only = true;
     Volume u = union_of(vol, out.labels.meshed);
     u.source = vol.source + " (the labels' union)";
     union_run = run_pipeline(u, whole, open_backend, &obs);

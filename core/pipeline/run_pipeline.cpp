@@ -396,6 +396,7 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
       estimate_run_bytes(run.voxels, int64_t(cloud.size()), asked, options.volume_mesh.has_value());
   check_memory(input, r.derived.memory_estimate);
   r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, r.derived.fit, &r.fit, &index.tree); });
+  if (options.fit_only) return r;
   sample_and_triangulate(run, cloud, index.tree);
   r.derived.components = applied_filter(options, scan, r.fit.eps);
   if (r.derived.components.active()) keep_components(run);  // before the optimisation, which then has less to do

@@ -74,6 +74,9 @@ struct RunOptions {
   // Keep the report's baselines: marching cubes of the volume (or the input mesh) and the
   // original MPU mesh (the surface polygonized).
   bool baselines = false;
+  // Stop after the fit (RunResult::surface and the fit's figures; no mesh): the complex
+  // needs the labels' union for its function only (pipeline/complex_run.h).
+  bool fit_only = false;
 };
 
 // The factor on the particle count when sampling again (the spacing is divided by its
