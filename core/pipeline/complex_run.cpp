@@ -77,8 +77,8 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
       /*separate=*/false);
   out.seconds_labels = timer.lap();
   // Where labels touch, the union of the labels meshed gives the background's function:
-  // each label's own fit ends a quarter voxel short of its neighbour's voxels
-  // (seg/label_map.h), and the background would take the sliver between them. Where none
+  // two fits that meet at their shared faces only to within their noise would leave the
+  // background slivers between them, and the union is inside across those. Where none
   // touch, the background is what no label holds (its function -min f_r), each label's
   // boundary its own fit, without a second fit's noise.
   std::optional<RunResult> union_run;
