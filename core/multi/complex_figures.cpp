@@ -7,6 +7,7 @@
 
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
+#include "mesh/topology.h"
 
 namespace mpumesh::multi {
 namespace {
@@ -21,20 +22,6 @@ struct Sets {
   }
   void join(uint32_t a, uint32_t b) { up[find(a)] = find(b); }
 };
-
-int64_t count_components(const TriangleMesh& m) {
-  if (m.triangles.empty()) return 0;
-  Sets sets(m.vertices.size());
-  std::vector<char> used(m.vertices.size(), 0);
-  for (const auto& t : m.triangles) {
-    sets.join(t[0], t[1]);
-    sets.join(t[1], t[2]);
-    used[t[0]] = used[t[1]] = used[t[2]] = 1;
-  }
-  int64_t n = 0;
-  for (uint32_t v = 0; v < m.vertices.size(); ++v) n += used[v] && sets.find(v) == v;
-  return n;
-}
 
 }  // namespace
 
@@ -60,19 +47,13 @@ TriangleMesh label_boundary(const TriangleMesh& c, int64_t label) {
   return m;
 }
 
+namespace {
+// Edges not closed and oriented: one face, three or more, or two running the same way.
+int64_t defects_of(const Topology& t) { return t.border_edges + t.nonmanifold_edges + t.misoriented_edges; }
+}  // namespace
+
 int64_t boundary_defects(const TriangleMesh& c, int64_t label) {
-  std::unordered_map<uint64_t, std::pair<int, int>> edges;  // count, directions summed
-  const TriangleMesh m = label_boundary(c, label);
-  for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
-      auto& e = edges[edge_key(a, b)];
-      ++e.first;
-      e.second += a < b ? 1 : -1;
-    }
-  int64_t n = 0;
-  for (const auto& [k, e] : edges) n += e.first != 2 || e.second != 0;
-  return n;
+  return defects_of(analyze_topology(label_boundary(c, label)));
 }
 
 std::vector<std::array<uint32_t, 2>> junction_edges(const TriangleMesh& c) {
@@ -98,12 +79,13 @@ ComplexFigures measure_complex(const TriangleMesh& c, bool crossings) {
   for (const int64_t label : complex_labels(c)) {
     if (label == 0) continue;
     const TriangleMesh b = label_boundary(c, label);
+    const Topology t = analyze_topology(b);
     RegionFigures f;
     f.label = label;
     f.triangles = int64_t(b.triangles.size());
     f.volume_mm3 = enclosed_volume(b);
-    f.defects = boundary_defects(c, label);
-    f.components = count_components(b);
+    f.defects = defects_of(t);
+    f.components = t.components;
     out.regions.push_back(f);
   }
   const std::vector<std::array<uint32_t, 2>> jedges = junction_edges(c);

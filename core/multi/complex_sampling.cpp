@@ -121,14 +121,15 @@ std::vector<ComplexParticle> junction_candidates(const MaterialField& field, con
       const ComplexParticle& q = in[i].particle;
       if (field.regions() < 3) continue;
       field.values(q.p, f);
-      const std::vector<int> r = field.ranked(q.p);
+      const std::vector<int> r = MaterialField::ranked(f);
       const double s = q.spacing;
       if (f[size_t(r[2])] - f[size_t(r[0])] > kJunctionBand * s) continue;
       std::array<int, 3> abc = {r[0], r[1], r[2]};
       std::sort(abc.begin(), abc.end());
       Eigen::Vector3d p = q.p;
       if (!field.project_junction(p, abc, kReach * s)) continue;
-      const std::vector<int> at = field.ranked(p);
+      field.values(p, f);
+      const std::vector<int> at = MaterialField::ranked(f);
       std::array<int, 3> top = {at[0], at[1], at[2]};
       std::sort(top.begin(), top.end());
       if (top != abc) continue;
@@ -137,7 +138,6 @@ std::vector<ComplexParticle> junction_candidates(const MaterialField& field, con
       c.p = p;
       c.kind = ParticleKind::kJunction;
       c.regions = {abc[0], abc[1], abc[2], -1};
-      field.values(p, f);
       if (at.size() > 3 && f[size_t(at[3])] - f[size_t(at[0])] < kCornerBand * s) {
         std::array<int, 4> r4 = {at[0], at[1], at[2], at[3]};
         std::sort(r4.begin(), r4.end());

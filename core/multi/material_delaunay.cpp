@@ -148,12 +148,10 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
   st.points = int64_t(particles.size());
   if (particles.size() < 4) throw InputError("triangulate: fewer than 4 particles on the complex");
   std::vector<Eigen::Vector3d> pts;
-  std::vector<uint8_t> held;
   std::vector<std::pair<Point, uint32_t>> in;
   for (const ComplexParticle& p : particles) {
     in.emplace_back(Point(p.p.x(), p.p.y(), p.p.z()), uint32_t(pts.size()));
     pts.push_back(p.p);
-    held.push_back(p.kind != ParticleKind::kInterface);
   }
   Dt dt;
   dt.insert(in.begin(), in.end());
@@ -177,7 +175,6 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
       if (dt.number_of_vertices() == n0) continue;
       v->info() = uint32_t(pts.size());
       pts.push_back(x);
-      held.push_back(0);
       ++st.repair_points;
       std::vector<Cell> around;
       dt.incident_cells(v, std::back_inserter(around));
@@ -191,7 +188,6 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
     return a.regions != b.regions ? a.regions < b.regions : a.v < b.v;
   });
   MaterialComplex out;
-  for (int r = 0; r < field.regions(); ++r) out.labels.push_back(int(field.label(r)));
   std::vector<uint32_t> index(pts.size(), UINT32_MAX);
   for (const Facet& f : facets)
     for (uint32_t v : f.v) index[v] = 0;
@@ -199,11 +195,9 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
     if (index[i] == UINT32_MAX) continue;
     index[i] = uint32_t(out.mesh.vertices.size());
     out.mesh.vertices.push_back(pts[i]);
-    out.held.push_back(held[i]);
   }
   for (const Facet& f : facets) {
     out.mesh.triangles.push_back({index[f.v[0]], index[f.v[1]], index[f.v[2]]});
-    out.regions.push_back(f.regions);
     out.mesh.face_labels.push_back({int32_t(field.label(f.regions[0])), int32_t(field.label(f.regions[1]))});
   }
   st.facets = int64_t(facets.size());

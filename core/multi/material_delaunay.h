@@ -25,9 +25,6 @@ struct MaterialComplex {
   // Each triangle oriented from region pair[0] into pair[1]; mesh.face_labels holds the
   // two regions' labels (multi/complex_figures.h reads a complex from it).
   TriangleMesh mesh;
-  std::vector<std::array<int, 2>> regions;  // per triangle, a < b
-  std::vector<int> labels;                  // region r's label (labels[0] = 0)
-  std::vector<uint8_t> held;                // per vertex: 1 on a junction curve or corner
 };
 
 struct ComplexDelaunayStats {

@@ -76,6 +76,10 @@ int MaterialField::region_at(const Eigen::Vector3d& p) const {
 std::vector<int> MaterialField::ranked(const Eigen::Vector3d& p) const {
   std::vector<double> f;
   values(p, f);
+  return ranked(f);
+}
+
+std::vector<int> MaterialField::ranked(const std::vector<double>& f) {
   std::vector<int> order(f.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return f[size_t(a)] < f[size_t(b)]; });

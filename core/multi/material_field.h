@@ -46,6 +46,8 @@ class MaterialField {
   int region_at(const Eigen::Vector3d& p) const;
   // The regions in order of their value at p, most inside first (ties by index).
   std::vector<int> ranked(const Eigen::Vector3d& p) const;
+  // The same from the values at a point (values()).
+  static std::vector<int> ranked(const std::vector<double>& f);
 
   // p moved onto the interface f_a = f_b (Newton steps on f_a - f_b along its gradient,
   // at most `max_move` in all); false when it does not converge there.

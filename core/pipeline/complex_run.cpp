@@ -70,9 +70,9 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   out.labels = run_labels(
       vol, labels, skip_failures, each, open_backend, &obs,
       [&](LabelRun& run) {
-        fits.push_back(std::make_unique<mpu::MpuSurface>(run.result.surface));
-        meshes.push_back(run.result.mesh);
-        on_label(run);
+        on_label(run);  // before the fit and the mesh are taken from the run
+        fits.push_back(std::make_unique<mpu::MpuSurface>(std::move(run.result.surface)));
+        meshes.push_back(std::move(run.result.mesh));
       },
       /*separate=*/false);
   out.seconds_labels = timer.lap();
