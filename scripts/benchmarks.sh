@@ -64,6 +64,9 @@ section "A real label map" \
 section "Several labels: one multi-material complex" \
   "Material phantoms (a ball split by a tilted plane, a ball in a shell, three sectors of a cylinder meeting along its axis, a ball in a cup one slice away; each voxel the label at its centre, slices 2-3 times the pixel, tilted) meshed by \`mpumesh run MAP --labels all -o complex.ply\`, and CGAL Mesh_3 on the same labelled image at about the same count (its facets tagged by their two subdomains), both scored from the written complexes against the closed form: per interface the distance to its true surface and the normal error (also away from the junction curves), the junction edges against the true curves both ways, each label's volume, triangle shape, closedness of every label's boundary, crossing triangle pairs and triangles on no true interface." \
   "$B/mpumesh_bench_materials" cpu
+section "A surface mesh of several parts" \
+  "The parts phantom (five closed parts: a ball cut by a plane into two parts that share the cut disc, a ball and a spheroid a fifth of an edge from it, a small ball 3 mm away; tilted) written as PLY and remeshed by \`mpumesh run PARTS.ply -o complex.ply\`, and by CGAL's isotropic remeshing (three iterations) at our triangle count, in the same run; both read back as complexes (CGAL's components tagged against the background) and scored from their triangles, against the parts' smooth surfaces and against the input." \
+  "$B/mpumesh_bench_parts" cpu
 section "Segmentation and points" "The sample CT's segmentation and point stages on every backend." \
   "$B/mpumesh_bench_points" "$ct" 226
 section "MPU fit and evaluation" "The fit of the sample CT's points and the evaluation throughput on every backend." \

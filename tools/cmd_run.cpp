@@ -15,6 +15,7 @@
 #include "common/error.h"
 #include "component_cli.h"
 #include "io/atomic_file.h"
+#include "mesh/component_filter.h"
 #include "io/mesh_io.h"
 #include "io/tet_io.h"
 #include "io/volume_io.h"
@@ -99,8 +100,10 @@ nlohmann::json report_run(const RunCli& o, const std::string& output, const Html
   return j;
 }
 
-// The one run of `mpumesh run` (a volume, one label of a label map, or a mesh).
-void run_one(const RunCli& o, const pipeline::RunOptions& options, const CommonOptions& common) {
+// The one run of `mpumesh run` (a volume, one label of a label map, or a mesh; `mesh`: the
+// mesh already read).
+void run_one(const RunCli& o, const pipeline::RunOptions& options, const CommonOptions& common,
+             const TriangleMesh* mesh = nullptr) {
   // The pipeline's stages are shown on `shown`; the command's own (the backend, writing,
   // the report) on `own`, whose times the report adds to the pipeline's.
   Progress shown(common.quiet || common.json), own(common.quiet || common.json);
@@ -111,7 +114,8 @@ void run_one(const RunCli& o, const pipeline::RunOptions& options, const CommonO
     choice = early.open(common, own);
     return *choice.backend;
   };
-  const pipeline::RunResult r = pipeline::run_pipeline(o.input, options, open, &observer);
+  const pipeline::RunResult r = mesh ? pipeline::run_pipeline(*mesh, o.input, options, open, &observer)
+                                      : pipeline::run_pipeline(o.input, options, open, &observer);
   own.begin("write mesh");
   write_mesh(r.mesh, o.output);
   if (!o.surface.empty()) write_mpu(r.surface, o.surface);
@@ -218,11 +222,46 @@ void write_complex(const RunCli& o, const pipeline::ComplexResult& r, PendingOut
   }
 }
 
+// A complex's outputs written (with `pending`, the files its runs added), its warnings and
+// summary printed, its report written.
+void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const CommonOptions& common,
+                    PendingOutputs& pending, Progress& progress) {
+  progress.begin("write mesh");
+  write_complex(o, r, pending);
+  progress.end();
+  pending.commit();
+  const multi::ComplexFigures& f = r.figures;
+  const char* region = r.from_mesh ? "part" : "label";
+  int64_t open_edges = 0;
+  for (const multi::RegionFigures& g : f.regions) {
+    open_edges += g.defects;
+    if (g.defects > 0 && !common.quiet)
+      std::cerr << fmt::format("mpumesh: warning: {} {}'s boundary in the complex has {} edges that are not closed "
+                               "and oriented (a sample too sparse there)\n",
+                               region, g.label, g.defects);
+  }
+  if (!common.json && !common.quiet)
+    std::cout << fmt::format(
+        "{}: {} {}s, {} triangles, {} interfaces, {} junction curves ({:.1f} mm), smallest angle {:.1f} deg, "
+        "{} crossing pairs, {} shells removed, every {} closed: {}\n",
+        o.output, f.regions.size(), region, r.complex.mesh.triangles.size(), f.interfaces.size(), f.junction_curves,
+        f.junction_length_mm, f.min_angle_deg, f.crossing_pairs, r.shells_removed, region,
+        open_edges == 0 ? "yes" : "no");
+  nlohmann::json j = {{"input", o.input},
+                      {"output", o.output},
+                      {"complex", complex_json(r)},
+                      {"meshed", r.labels.meshed},
+                      {"version", MPUMESH_VERSION}};
+  if (!r.from_mesh) j["skipped"] = skipped_labels_json(r.labels.skipped);
+  j["stage_seconds"] = stage_seconds_json({}, progress);
+  if (!o.report.empty()) write_json_file(j, o.report);
+  if (common.json) std::cout << j.dump(2) << '\n';
+}
+
 // --labels without --separate: one multi-material complex of the labels
 // (pipeline/complex_run.h).
 void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
   LabelMapRun lm(o, common);
-  const bool talk = lm.talk;
   Progress& progress = lm.progress;
   PendingOutputs pending;
   const auto on_label = [&](pipeline::LabelRun& run) {
@@ -232,34 +271,32 @@ void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const
   quiet_base.quality.reset();
   const pipeline::ComplexResult r =
       pipeline::run_complex(lm.vol, lm.todo, o.labels == "all", quiet_base, lm.open, &lm.observer, on_label);
-  progress.begin("write mesh");
-  write_complex(o, r, pending);
+  finish_complex(o, r, common, pending, progress);
+}
+
+// A surface mesh: its parts remeshed as one complex (pipeline/complex_run.h) when it has
+// two or more and --separate is not given, else one run.
+void run_mesh(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
+  const bool talk = !common.json && !common.quiet;
+  Progress shown(!talk), progress(!talk);
+  progress.begin("read mesh");
+  const TriangleMesh mesh = read_mesh(o.input);
+  const size_t parts = o.separate ? 1 : split_parts(mesh).size();
   progress.end();
-  pending.commit();
-  const multi::ComplexFigures& f = r.figures;
-  int64_t open_edges = 0;
-  for (const multi::RegionFigures& g : f.regions) {
-    open_edges += g.defects;
-    if (g.defects > 0 && !common.quiet)
-      std::cerr << fmt::format("mpumesh: warning: label {}'s boundary in the complex has {} edges that are not closed "
-                               "and oriented (a sample too sparse there)\n",
-                               g.label, g.defects);
-  }
-  if (talk)
-    std::cout << fmt::format(
-        "{}: {} labels, {} triangles, {} interfaces, {} junction curves ({:.1f} mm), smallest angle {:.1f} deg, "
-        "{} crossing pairs, every label closed: {}\n",
-        o.output, f.regions.size(), r.complex.mesh.triangles.size(), f.interfaces.size(), f.junction_curves,
-        f.junction_length_mm, f.min_angle_deg, f.crossing_pairs, open_edges == 0 ? "yes" : "no");
-  nlohmann::json j = {{"input", o.input},
-                      {"output", o.output},
-                      {"complex", complex_json(r)},
-                      {"meshed", r.labels.meshed},
-                      {"skipped", skipped_labels_json(r.labels.skipped)},
-                      {"version", MPUMESH_VERSION}};
-  j["stage_seconds"] = stage_seconds_json({}, progress);
-  if (!o.report.empty()) write_json_file(j, o.report);
-  if (common.json) std::cout << j.dump(2) << '\n';
+  if (parts < 2) return run_one(o, base, common, &mesh);
+  check_complex_outputs(o, fmt::format("{} ({} parts)", o.input, parts));
+  RunObserver observer(shown, talk);
+  EarlyBackend early(o.backend);
+  vk::BackendChoice choice;
+  const pipeline::BackendOpener open = [&]() -> ComputeBackend& {
+    if (!choice.backend) choice = early.open(common, progress);
+    return *choice.backend;
+  };
+  pipeline::RunOptions quiet_base = base;
+  quiet_base.quality.reset();
+  const pipeline::ComplexResult r = pipeline::run_parts_complex(mesh, o.input, quiet_base, open, &observer);
+  PendingOutputs pending;
+  finish_complex(o, r, common, pending, progress);
 }
 
 }  // namespace
@@ -277,7 +314,8 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
       const pipeline::RunOptions options = run_options(*o, common);
       std::optional<tbb::global_control> threads;
       if (o->threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, size_t(o->threads));
-      if (o->labels.empty()) run_one(*o, options, common);
+      if (o->labels.empty() && pipeline::is_mesh_path(o->input)) run_mesh(*o, options, common);
+      else if (o->labels.empty()) run_one(*o, options, common);
       else if (o->separate) run_labels(*o, options, common);
       else run_complex_labels(*o, options, common);
     };

@@ -50,7 +50,9 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
   cmd->add_flag("--separate", o.separate,
                 "with --labels: mesh each label's own surface instead of one complex (a label's mesh kept out of "
                 "those of the labels before it); -o, --html and --surface must hold {label}, and --report gets a "
-                "section per label");
+                "section per label. With a surface mesh of several closed parts (by default remeshed as one "
+                "complex of them, numbered by volume, largest first): remesh it as one surface, whose parts may "
+                "fuse where they come closer than the fit resolves");
   cmd->add_flag("--ruled-caps", o.ruled_caps,
                 "cap points' heights from the contours alone (a ruled surface between two slices' contours), not "
                 "from the grey of the two slabs the surface crosses");
@@ -91,7 +93,8 @@ namespace {
 // segmentation), and with --labels one path per label for the mesh and the per-label files.
 void check_label_options(const RunCli& o) {
   const bool many = !o.labels.empty();
-  if (o.separate && !many) throw InputError("--separate: each label's own surface needs --labels");
+  if (o.separate && !many && !pipeline::is_mesh_path(o.input))
+    throw InputError("--separate: applies to --labels and to surface meshes");
   if (o.label == 0 && !many) return;
   const char* flag = many ? "--labels" : "--label";
   if (pipeline::is_mesh_path(o.input))
@@ -104,24 +107,34 @@ void check_label_options(const RunCli& o) {
   if (!o.volume.empty())
     throw InputError("--labels: --volume fills one surface; mesh each label's surface with `mpumesh tetmesh`");
   seg::parse_label_list(o.labels);  // its errors now, before the volume is read
-  if (!o.separate) {
-    if (!o.html.empty())
-      throw InputError("--html: the complex of --labels has its figures in --report; per-label HTML reports come "
-                       "with --separate");
-    if (o.output.find(kLabelField) == std::string::npos && mesh_format_from_path(o.output) != MeshFormat::kPly)
-      throw InputError(o.output + ": the complex is written as PLY, whose faces carry label_a and label_b (or "
-                                  "put {label} in the path for one closed surface per label)");
-  }
-  std::vector<const std::string*> per_label = {&o.surface};
-  if (o.separate) per_label = {&o.output, &o.html, &o.surface};
-  for (const std::string* path : per_label)
-    if (!path->empty() && path->find(kLabelField) == std::string::npos)
-      throw InputError(fmt::format("{}: --labels writes one file per label: the path must hold {} (for example "
-                                   "out/bone_{}.ply)",
-                                   *path, kLabelField, kLabelField));
+  if (!o.separate) check_complex_outputs(o, "--labels");
+  if (o.separate) check_label_paths({&o.output, &o.html, &o.surface}, "--labels");
 }
 
 }  // namespace
+
+void check_label_paths(const std::vector<const std::string*>& paths, const std::string& what) {
+  for (const std::string* path : paths)
+    if (!path->empty() && path->find(kLabelField) == std::string::npos)
+      throw InputError(fmt::format("{}: {} writes one file per label: the path must hold {} (for example "
+                                   "out/bone_{}.ply)",
+                                   *path, what, kLabelField, kLabelField));
+}
+
+void check_complex_outputs(const RunCli& o, const std::string& what) {
+  if (!o.volume.empty())
+    throw InputError(fmt::format("{}: --volume fills one surface; a complex's surfaces are filled with `mpumesh "
+                                 "tetmesh` each, or pass --separate",
+                                 what));
+  if (!o.html.empty())
+    throw InputError(fmt::format("--html: the complex of {} has its figures in --report; HTML reports come with "
+                                 "--separate",
+                                 what));
+  if (o.output.find(kLabelField) == std::string::npos && mesh_format_from_path(o.output) != MeshFormat::kPly)
+    throw InputError(o.output + ": the complex is written as PLY, whose faces carry label_a and label_b (or "
+                                "put {label} in the path for one closed surface per label)");
+  check_label_paths({&o.surface}, what);
+}
 
 void check_run_outputs(const RunCli& o) {
   check_label_options(o);

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cli_util.h"
 #include "commands.h"
@@ -33,7 +34,9 @@ struct RunCli {
   ComponentOptions components;
   int64_t label = 0;   // --label
   std::string labels;  // --labels: "all" or a list
-  bool separate = false;  // --separate: each label's own surface, not one complex
+  // --separate: each label's own surface, or a mesh's parts remeshed as one surface, not
+  // one complex
+  bool separate = false;
   int threads = 0;     // 0: every core
 };
 
@@ -48,6 +51,12 @@ std::string with_label(std::string path, int64_t label);
 // The outputs, checked before the long work starts (their directories writable, the mesh
 // format known, --labels paths holding {label}).
 void check_run_outputs(const RunCli& o);
+// The outputs of a complex (`what` names its source in messages: --labels, or a mesh of
+// several parts): -o a PLY or a path with {label}, --surface with {label}, no --volume
+// and no --html.
+void check_complex_outputs(const RunCli& o, const std::string& what);
+// Throws InputError unless each path given holds {label}.
+void check_label_paths(const std::vector<const std::string*>& paths, const std::string& what);
 // The parameters, checked, as the pipeline's options (throws InputError; the particles'
 // and the volume mesh's options with "COMMAND: " in front, when a command is named).
 pipeline::RunOptions run_options(RunCli& o, const CommonOptions& common, const std::string& command = "run");

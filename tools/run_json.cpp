@@ -79,7 +79,11 @@ std::vector<std::string> spelled(const std::vector<std::string>& lines, const Op
 
 nlohmann::json input_json(const pipeline::InputInfo& in) {
   if (in.mesh)
-    return {{"path", in.path}, {"kind", "mesh"}, {"vertices", in.mesh->vertices}, {"triangles", in.mesh->triangles}};
+    return {{"path", in.path},
+            {"kind", "mesh"},
+            {"vertices", in.mesh->vertices},
+            {"triangles", in.mesh->triangles},
+            {"parts", in.mesh->parts}};
   const pipeline::VolumeInput v = in.volume.value_or(pipeline::VolumeInput{});
   return {{"path", in.path},
           {"kind", "volume"},
@@ -227,11 +231,17 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
   const multi::ComplexFigures& f = r.figures;
   nlohmann::json labels = nlohmann::json::array();
   for (const pipeline::ComplexRegion& g : r.regions) {
-    nlohmann::json l = {{"label", g.label}, {"voxels", g.voxels}, {"voxel_volume_mm3", g.voxel_volume_mm3}};
+    // A label map's labels are measured against their voxels, a mesh's parts against the
+    // input parts.
+    const std::string against = r.from_mesh ? "input" : "voxels";
+    nlohmann::json l = {{"label", g.label}};
+    if (!r.from_mesh) l["voxels"] = g.voxels;
+    l[r.from_mesh ? "input_volume_mm3" : "voxel_volume_mm3"] = g.reference_volume_mm3;
     for (const multi::RegionFigures& x : f.regions)
       if (x.label == g.label)
         l.update({{"volume_mm3", x.volume_mm3},
-                  {"volume_vs_voxels", g.voxel_volume_mm3 > 0 ? x.volume_mm3 / g.voxel_volume_mm3 - 1 : 0.0},
+                  {"volume_vs_" + against,
+                   g.reference_volume_mm3 > 0 ? x.volume_mm3 / g.reference_volume_mm3 - 1 : 0.0},
                   {"triangles", x.triangles},
                   {"closed", x.defects == 0},
                   {"open_edges", x.defects},
@@ -256,6 +266,7 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
           {"min_angle_off_junctions_deg", f.min_angle_off_junction_deg},
           {"mean_radius_ratio", f.mean_radius_ratio},
           {"crossing_pairs", f.crossing_pairs},
+          {"shells_removed", r.shells_removed},
           {"sample",
            {{"seeds", s.seeds},
             {"off_interface", s.off_interface},

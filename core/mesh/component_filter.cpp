@@ -61,26 +61,67 @@ std::vector<Component> components_of(const TriangleMesh& m) {
   return c;
 }
 
+// A shell's (or a cavity's that no shell holds) volume less its cavities', and its area
+// with theirs.
+double net_volume(const std::vector<Component>& c, size_t k) {
+  double v = c[k].volume;
+  for (int32_t q : c[k].cavities) v += c[size_t(q)].volume;
+  return v;
+}
+double total_area(const std::vector<Component>& c, size_t k) {
+  double a = c[k].area;
+  for (int32_t q : c[k].cavities) a += c[size_t(q)].area;
+  return a;
+}
+
+// The shells (and cavities no shell holds, kept as they are), largest volume first.
+std::vector<size_t> shells_by_volume(const std::vector<Component>& c) {
+  std::vector<size_t> shells;
+  for (size_t k = 0; k < c.size(); ++k)
+    if (c[k].volume >= 0 || c[k].shell < 0) shells.push_back(k);
+  std::stable_sort(shells.begin(), shells.end(),
+                   [&](size_t a, size_t b) { return net_volume(c, a) > net_volume(c, b); });
+  return shells;
+}
+
 }  // namespace
+
+int64_t count_parts(const TriangleMesh& m) { return int64_t(shells_by_volume(components_of(m)).size()); }
+
+std::vector<MeshPart> split_parts(const TriangleMesh& m) {
+  const std::vector<Component> c = components_of(m);
+  std::vector<MeshPart> parts;
+  for (size_t k : shells_by_volume(c)) {
+    MeshPart part;
+    part.volume_mm3 = net_volume(c, k);
+    part.area_mm2 = total_area(c, k);
+    std::vector<uint32_t> index(m.vertices.size(), UINT32_MAX);
+    std::vector<int32_t> members = {int32_t(k)};
+    members.insert(members.end(), c[k].cavities.begin(), c[k].cavities.end());
+    std::vector<uint32_t> faces;
+    for (int32_t q : members) faces.insert(faces.end(), c[size_t(q)].triangles.begin(), c[size_t(q)].triangles.end());
+    std::sort(faces.begin(), faces.end());
+    std::vector<char> used(m.vertices.size(), 0);
+    for (uint32_t f : faces)
+      for (uint32_t v : m.triangles[f]) used[v] = 1;
+    for (uint32_t v = 0; v < m.vertices.size(); ++v)
+      if (used[v]) {
+        index[v] = uint32_t(part.mesh.vertices.size());
+        part.mesh.vertices.push_back(m.vertices[v]);
+      }
+    for (uint32_t f : faces)
+      part.mesh.triangles.push_back({index[m.triangles[f][0]], index[m.triangles[f][1]], index[m.triangles[f][2]]});
+    parts.push_back(std::move(part));
+  }
+  return parts;
+}
 
 FilteredMesh filter_components(const TriangleMesh& m, const ComponentOptions& filter) {
   FilteredMesh out;
   std::vector<Component> c = components_of(m);
-  // Shells (and cavities no shell holds, kept as they are), largest volume first.
-  std::vector<size_t> shells;
-  for (size_t k = 0; k < c.size(); ++k)
-    if (c[k].volume >= 0 || c[k].shell < 0) shells.push_back(k);
-  auto net = [&](size_t k) {
-    double v = c[k].volume;
-    for (int32_t q : c[k].cavities) v += c[size_t(q)].volume;
-    return v;
-  };
-  auto area = [&](size_t k) {
-    double a = c[k].area;
-    for (int32_t q : c[k].cavities) a += c[size_t(q)].area;
-    return a;
-  };
-  std::stable_sort(shells.begin(), shells.end(), [&](size_t a, size_t b) { return net(a) > net(b); });
+  const std::vector<size_t> shells = shells_by_volume(c);
+  auto net = [&](size_t k) { return net_volume(c, k); };
+  auto area = [&](size_t k) { return total_area(c, k); };
   std::vector<char> keep_triangle(m.triangles.size(), 0);
   for (size_t r = 0; r < shells.size(); ++r) {
     const size_t k = shells[r];

@@ -40,6 +40,17 @@ struct FilteredMesh {
 
 FilteredMesh filter_components(const TriangleMesh& mesh, const ComponentOptions& filter);
 
+// A closed mesh's parts: each shell with the cavities it encloses, as a mesh of its own
+// (its vertices in their order, without attributes), largest enclosed volume first.
+struct MeshPart {
+  TriangleMesh mesh;
+  double volume_mm3 = 0;  // the shell's, less its cavities'
+  double area_mm2 = 0;    // the shell's and its cavities'
+};
+std::vector<MeshPart> split_parts(const TriangleMesh& mesh);
+// How many parts split_parts finds.
+int64_t count_parts(const TriangleMesh& mesh);
+
 // Throws InputError naming `path` when the filter kept nothing (only --min-volume can drop
 // every structure); says how much the largest encloses.
 void require_kept(const FilteredMesh& f, const ComponentOptions& filter, const std::string& path);

@@ -23,6 +23,7 @@
 #include "compute/compute_backend.h"
 #include "mesh/circumcentre.h"
 #include "mesh/restricted_delaunay.h"
+#include "mpu/data_box.h"
 #include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh::delaunay {
@@ -68,15 +69,8 @@ struct RFacet {
   std::array<uint32_t, 3> v;
 };
 
-// f, but positive outside the fitted points' bounding box (widened by 0.5% of the cube):
-// no surface lies there, while the leaves' polynomials, extrapolated into the cube's
-// margin, can go negative (on the sample CT, f = -35 to -650 mm 4 to 16 mm beyond the
-// points at the volume's border), and a Voronoi vertex there would put facets on a sheet
-// that is not there.
-inline bool within_data(const mpu::MpuSurface& s, const Eigen::Vector3d& x) {
-  const double margin = 0.005 * s.box_size;
-  return !((x.array() < s.data_min.array() - margin).any() || (x.array() > s.data_max.array() + margin).any());
-}
+// f, but positive outside the fitted points' box (mpu/data_box.h): a Voronoi vertex there
+// would put facets on a sheet that is not there.
 inline double f_within_data(const mpu::MpuSurface& s, const Eigen::Vector3d& x) {
   return within_data(s, x) ? mpu::evaluate_f(s, x) : s.box_size;
 }

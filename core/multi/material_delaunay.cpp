@@ -20,12 +20,19 @@ namespace {
 
 using K = CGAL::Epick;
 using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
-using Cb = CGAL::Triangulation_cell_base_with_info_3<int, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
+constexpr int kUnlabelled = -2;
+// A cell's region (kUnlabelled until its circumcentre is labelled) and, per facet, whether
+// the facet's dual edge was found to pass through no third region (passes_through_third);
+// a new cell starts unlabelled and unchecked.
+struct CellInfo {
+  int region = kUnlabelled;
+  std::array<bool, 4> clear{};
+};
+using Cb = CGAL::Triangulation_cell_base_with_info_3<CellInfo, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
 using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
 using Dt = CGAL::Delaunay_triangulation_3<K, Tds>;
 using Point = K::Point_3;
 using Cell = Dt::Cell_handle;
-constexpr int kUnlabelled = -2;
 constexpr int kMaxRounds = 40;
 
 Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
@@ -38,14 +45,14 @@ Eigen::Vector3d centre(Cell c) {
   return robust_circumcentre(vec(v[0]->point()), vec(v[1]->point()), vec(v[2]->point()), vec(v[3]->point()));
 }
 
-int region_of(const Dt& dt, Cell c) { return dt.is_infinite(c) ? 0 : c->info(); }
+int region_of(const Dt& dt, Cell c) { return dt.is_infinite(c) ? 0 : c->info().region; }
 
 void label_new_cells(const MaterialField& field, Dt& dt) {
   std::vector<Cell> todo;
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
-    if (c->info() == kUnlabelled) todo.push_back(c);
+    if (c->info().region == kUnlabelled) todo.push_back(c);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t k = r.begin(); k != r.end(); ++k) todo[k]->info() = field.region_at(centre(todo[k]));
+    for (size_t k = r.begin(); k != r.end(); ++k) todo[k]->info().region = field.region_at(centre(todo[k]));
   });
 }
 
@@ -62,7 +69,7 @@ std::vector<Facet> complex_facets(const Dt& dt) {
   const auto orientation = dt.geom_traits().orientation_3_object();
   std::vector<Facet> out;
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c) {
-    const int rc = c->info();
+    const int rc = c->info().region;
     for (int i = 0; i < 4; ++i) {
       const Cell n = c->neighbor(i);
       const bool hull = dt.is_infinite(n);
@@ -120,11 +127,14 @@ std::vector<size_t> defective_facets(const std::vector<Facet>& facets, const std
 }
 
 // Where the labelling changes along the facet's dual Voronoi edge, first from the lower
-// region's side, on the interface of the two regions met there; false when none is found.
-bool dual_crossing(const MaterialField& field, const Dt& dt, const Facet& F, Eigen::Vector3d& x) {
-  const Cell n = F.cell->neighbor(F.i);
-  if (dt.is_infinite(F.cell) || dt.is_infinite(n)) return false;
-  Eigen::Vector3d lo = centre(F.cell), hi = centre(n);
+// region's side (from the higher's with `from_higher`), on the interface of the two regions
+// met there; false when none is found.
+bool dual_crossing(const MaterialField& field, const Dt& dt, const Facet& F, Eigen::Vector3d& x,
+                   bool from_higher = false) {
+  Cell near = F.cell, far = F.cell->neighbor(F.i);
+  if (dt.is_infinite(near) || dt.is_infinite(far)) return false;
+  if (from_higher) std::swap(near, far);
+  Eigen::Vector3d lo = centre(near), hi = centre(far);
   const int r0 = field.region_at(lo);
   if (field.region_at(hi) == r0) return false;
   for (int it = 0; it < 40; ++it) {
@@ -133,16 +143,70 @@ bool dual_crossing(const MaterialField& field, const Dt& dt, const Facet& F, Eig
   }
   const int r1 = field.region_at(hi);
   x = 0.5 * (lo + hi);
-  const double reach = std::max((hi - lo).norm(), 0.25 * (centre(F.cell) - centre(n)).norm());
+  const double reach = std::max((hi - lo).norm(), 0.25 * (centre(near) - centre(far)).norm());
   Eigen::Vector3d p = x;
   if (field.project_interface(p, std::min(r0, r1), std::max(r0, r1), reach)) x = p;
   return true;
 }
 
+// Whether a region other than a and b holds a point of the segment p-q: its value there
+// below both of theirs. The functions are about signed distances (slope 1), so the
+// margin by which a and b beat every other region changes by at most twice the distance
+// moved: a segment whose middle has a margin above its length holds no other region;
+// otherwise both halves are searched, down to a thousandth of a millimetre.
+bool third_on_segment(const MaterialField& field, const Eigen::Vector3d& p, const Eigen::Vector3d& q, int a, int b,
+                      std::vector<double>& f) {
+  const double length = (q - p).norm();
+  const Eigen::Vector3d mid = 0.5 * (p + q);
+  field.values(mid, f);
+  const double ab = std::min(f[size_t(a)], f[size_t(b)]);
+  double margin = INFINITY;
+  for (int r = 0; r < int(f.size()); ++r)
+    if (r != a && r != b) margin = std::min(margin, f[size_t(r)] - ab);
+  if (margin < 0) return true;
+  if (margin > length || length < 1e-3) return false;
+  return third_on_segment(field, p, mid, a, b, f) || third_on_segment(field, mid, q, a, b, f);
+}
+
+bool passes_through_third(const MaterialField& field, const Dt& dt, const Facet& F) {
+  const Cell n = F.cell->neighbor(F.i);
+  if (F.regions[0] == 0 || dt.is_infinite(F.cell) || dt.is_infinite(n)) return false;
+  const int j = n->index(F.cell);
+  if (F.cell->info().clear[size_t(F.i)] && n->info().clear[size_t(j)]) return false;
+  std::vector<double> f;
+  if (third_on_segment(field, centre(F.cell), centre(n), F.regions[0], F.regions[1], f)) return true;
+  F.cell->info().clear[size_t(F.i)] = true;
+  n->info().clear[size_t(j)] = true;
+  return false;
+}
+
+// The points a repair round adds: for each facet at a defective boundary edge
+// (defective_facets), the labelling's crossing on its dual edge; with `resolve_gaps`, for
+// each facet between two labels whose dual edge passes through a third region, the
+// crossings from both ends, one on each label's side of the gap.
+std::vector<Eigen::Vector3d> repair_points(const MaterialField& field, const Dt& dt, const std::vector<Facet>& facets,
+                                           const std::vector<Eigen::Vector3d>& pts, bool resolve_gaps,
+                                           int64_t* defects) {
+  std::vector<char> kind(facets.size(), 0);  // 1: defective, 2: through a third region
+  for (size_t f : defective_facets(facets, pts, field.regions(), defects)) kind[f] = 1;
+  if (resolve_gaps)
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, facets.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t f = r.begin(); f != r.end(); ++f)
+        if (passes_through_third(field, dt, facets[f])) kind[f] = 2;
+    });
+  std::vector<Eigen::Vector3d> add;
+  for (size_t f = 0; f < facets.size(); ++f) {
+    Eigen::Vector3d x;
+    if (kind[f] >= 1 && dual_crossing(field, dt, facets[f], x)) add.push_back(x);
+    if (kind[f] == 2 && dual_crossing(field, dt, facets[f], x, true)) add.push_back(x);
+  }
+  return add;
+}
+
 }  // namespace
 
 MaterialComplex material_delaunay(const MaterialField& field, const std::vector<ComplexParticle>& particles,
-                                  ComplexDelaunayStats* stats_out) {
+                                  ComplexDelaunayStats* stats_out, bool resolve_gaps) {
   const auto t0 = std::chrono::steady_clock::now();
   ComplexDelaunayStats st;
   st.points = int64_t(particles.size());
@@ -155,20 +219,13 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
   }
   Dt dt;
   dt.insert(in.begin(), in.end());
-  for (auto c = dt.all_cells_begin(); c != dt.all_cells_end(); ++c) c->info() = kUnlabelled;
   std::vector<Facet> facets;
   for (int round = 0;; ++round) {
     label_new_cells(field, dt);
     facets = complex_facets(dt);
-    const std::vector<size_t> bad = defective_facets(facets, pts, field.regions(), &st.bad_edges);
-    if (bad.empty() || round == kMaxRounds) break;
+    const std::vector<Eigen::Vector3d> add = repair_points(field, dt, facets, pts, resolve_gaps, &st.bad_edges);
+    if (add.empty() || round == kMaxRounds) break;
     ++st.repair_rounds;
-    std::vector<Eigen::Vector3d> add;
-    for (size_t f : bad) {
-      Eigen::Vector3d x;
-      if (dual_crossing(field, dt, facets[f], x)) add.push_back(x);
-    }
-    if (add.empty()) break;
     for (const Eigen::Vector3d& x : add) {
       const size_t n0 = dt.number_of_vertices();
       const Dt::Vertex_handle v = dt.insert(Point(x.x(), x.y(), x.z()));
@@ -176,9 +233,6 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
       v->info() = uint32_t(pts.size());
       pts.push_back(x);
       ++st.repair_points;
-      std::vector<Cell> around;
-      dt.incident_cells(v, std::back_inserter(around));
-      for (Cell c : around) c->info() = kUnlabelled;
     }
   }
   st.cells = int64_t(dt.number_of_finite_cells());

@@ -34,7 +34,13 @@ struct ComplexDelaunayStats {
   double seconds = 0;
 };
 
+// With `resolve_gaps`, a facet between two labels whose dual edge passes through a third
+// region (two labels a gap apart that is thinner than the sample) gets the labelling's
+// crossings from both ends too: a mesh's parts, whose gaps can be a fraction of an edge.
+// A label map's gaps are a voxel or more, about the sample's spacing; on the sample
+// project's masks the search ran the repair to its 40 rounds (100,000 points more) and
+// is not made there.
 MaterialComplex material_delaunay(const MaterialField& field, const std::vector<ComplexParticle>& particles,
-                                  ComplexDelaunayStats* stats = nullptr);
+                                  ComplexDelaunayStats* stats = nullptr, bool resolve_gaps = false);
 
 }  // namespace mpumesh::multi

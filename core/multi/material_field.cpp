@@ -1,30 +1,35 @@
 #include "multi/material_field.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
+#include "mpu/data_box.h"
 #include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh::multi {
-
-bool within_fit(const mpu::MpuSurface& s, const Eigen::Vector3d& p) {
-  const double margin = 0.005 * s.box_size;
-  return !((p.array() < s.data_min.array() - margin).any() || (p.array() > s.data_max.array() + margin).any());
-}
 
 MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits,
                              const mpu::MpuSurface* outside, const RegionSupport* support)
     : labels_(std::move(labels)), fits_(std::move(fits)), outside_(outside), support_(support) {}
 
+MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits, double contact,
+                             PartUnions unions)
+    : labels_(std::move(labels)),
+      fits_(std::move(fits)),
+      outside_(nullptr),
+      support_(nullptr),
+      contact_(contact),
+      unions_(std::move(unions)) {}
+
 namespace {
 // A region beyond its support: never the most inside.
 constexpr double kUnsupported = 1e30;
-}  // namespace
 
-// A label's function (far outside beyond its box) or the union's.
-double MaterialField::f_of(int r, const Eigen::Vector3d& p, Eigen::Vector3d* g) const {
-  const mpu::MpuSurface& s = r < 0 ? *outside_ : *fits_[size_t(r - 1)];
-  if (!within_fit(s, p)) {
+// A fit's value over its gradient's length (far outside beyond its box), with the unit
+// gradient when `g` is given.
+double distance_of(const mpu::MpuSurface& s, const Eigen::Vector3d& p, Eigen::Vector3d* g) {
+  if (!within_data(s, p)) {
     if (g) g->setZero();
     return s.box_size;
   }
@@ -35,12 +40,53 @@ double MaterialField::f_of(int r, const Eigen::Vector3d& p, Eigen::Vector3d* g) 
   if (g) *g = len > 1e-9 ? Eigen::Vector3d(e.g / len) : e.g;
   return len > 1e-9 ? e.f / len : e.f;
 }
+}  // namespace
+
+// A label's function or (r < 0) the union's.
+double MaterialField::f_of(int r, const Eigen::Vector3d& p, Eigen::Vector3d* g) const {
+  return distance_of(r < 0 ? *outside_ : *fits_[size_t(r - 1)], p, g);
+}
+
+double MaterialField::parts_background(const Eigen::Vector3d& p, const std::vector<double>& f,
+                                       std::vector<Eigen::Vector3d>* g) const {
+  // The units' values: each group's union once, each part on its own.
+  struct Unit {
+    double f;
+    Eigen::Vector3d g;
+  };
+  std::vector<Unit> units;
+  for (size_t k = 0; k < unions_.fits.size(); ++k) {
+    Unit u{0, Eigen::Vector3d::Zero()};
+    u.f = distance_of(*unions_.fits[k], p, g ? &u.g : nullptr);
+    units.push_back(u);
+  }
+  for (int r = 1; r < int(f.size()); ++r)
+    if (unions_.group.empty() || unions_.group[size_t(r - 1)] < 0)
+      units.push_back({f[size_t(r)], g ? (*g)[size_t(r)] : Eigen::Vector3d::Zero()});
+  int first = -1, second = -1;
+  for (int u = 0; u < int(units.size()); ++u) {
+    if (first < 0 || units[size_t(u)].f < units[size_t(first)].f) {
+      second = first;
+      first = u;
+    } else if (second < 0 || units[size_t(u)].f < units[size_t(second)].f) {
+      second = u;
+    }
+  }
+  double f0 = -units[size_t(first)].f;
+  if (g) (*g)[0] = -units[size_t(first)].g;
+  const double T = (1 + std::sqrt(3.0) / 2) * contact_;
+  if (second >= 0 && contact_ > 0 && units[size_t(second)].f < T) {
+    const double gap = T - units[size_t(second)].f;
+    f0 += gap * gap / T;
+    if (g) (*g)[0] -= 2 * gap / T * units[size_t(second)].g;
+  }
+  return f0;
+}
 
 void MaterialField::values(const Eigen::Vector3d& p, std::vector<double>& f) const {
   f.assign(size_t(regions()), 0.0);
-  double lowest = INFINITY;
-  for (int r = 1; r < regions(); ++r) lowest = std::min(lowest, f[size_t(r)] = f_of(r, p, nullptr));
-  f[0] = outside_ ? -f_of(-1, p, nullptr) : -lowest;
+  for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, nullptr);
+  f[0] = outside_ ? -f_of(-1, p, nullptr) : parts_background(p, f, nullptr);
   if (support_)
     for (int r = 0; r < regions(); ++r)
       if (!support_->allows(r, p)) f[size_t(r)] = kUnsupported;
@@ -50,17 +96,12 @@ void MaterialField::values_and_gradients(const Eigen::Vector3d& p, std::vector<d
                                          std::vector<Eigen::Vector3d>& g) const {
   f.assign(size_t(regions()), 0.0);
   g.assign(size_t(regions()), Eigen::Vector3d::Zero());
-  int lowest = 0;
-  for (int r = 1; r < regions(); ++r) {
-    f[size_t(r)] = f_of(r, p, &g[size_t(r)]);
-    if (lowest == 0 || f[size_t(r)] < f[size_t(lowest)]) lowest = r;
-  }
+  for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, &g[size_t(r)]);
   if (outside_) {
     f[0] = -f_of(-1, p, &g[0]);
     g[0] = -g[0];
   } else {
-    f[0] = -f[size_t(lowest)];
-    g[0] = -g[size_t(lowest)];
+    f[0] = parts_background(p, f, &g);
   }
   if (support_)
     for (int r = 0; r < regions(); ++r)

@@ -2,8 +2,19 @@
 // function per label, and a labelling of space from them. Region 0 is the background and
 // regions 1..n the labels, each with a function f_r (negative inside, about the signed
 // distance in mm). The background's own function is f_0 = -f_U, U the union of the
-// labels fitted as one more label (a label map), or, without it, f_0 = -min_r f_r (the
-// parts of a mesh, which stay apart where they do not overlap). The labelling is
+// labels fitted as one more label (a label map), or, without it, the parts of a mesh:
+//     f_0 = -f_(1) + psi(f_(2)),   psi(s) = (T - s)^2 / T for s < T, else 0,
+// f_(1) <= f_(2) the two lowest units' values, T = (1 + sqrt(3)/2) tau and tau the
+// contact distance. A unit is a part, or a group of parts in contact, whose union is
+// fitted as one more function (PartUnions): the group's outside is then one smooth fit
+// across the rims where its parts' shared faces meet it, which each part's own fit
+// rounds off. Away from other parts (f_(2) >= T) it is -min_r f_r: each part's
+// boundary is its own fit's zero set and parts stay apart. Near another part the
+// background yields: on a face two parts share (f_(1) = f_(2) = 0) f_0 = T > 0, so the
+// two meet in one interface with no background sliver; in a gap between two parts, at
+// its middle f_(1) = f_(2) = s, the background holds it while psi(s) < 2 s, that is
+// while s > tau / 2: parts whose surfaces come within tau of each other share an
+// interface, parts further apart stay apart. The labelling is
 //     region(p) = argmin_r f_r(p),   r = 0..n,
 // the most inside; where two regions touch, their common boundary is the one surface
 // f_a = f_b, with no gap and no overlap by construction, and three regions meet along
@@ -14,7 +25,7 @@
 // voxels' common face; between them the union is inside, f_0 > 0, so the background
 // takes no sliver there. A label's function counts only within its fitted points' box
 // (widened by 0.5% of its cube): beyond it the leaves' polynomials are extrapolated and
-// may go negative where no surface is (mesh/delaunay_state.h says the same of one fit).
+// may go negative where no surface is (mpu/data_box.h).
 #pragma once
 
 #include <Eigen/Dense>
@@ -27,12 +38,23 @@
 
 namespace mpumesh::multi {
 
+// Groups of a mesh's parts in contact, each with its union's fit: group[r - 1] is region
+// r's group (an index into `fits`) or -1 for a part on its own.
+struct PartUnions {
+  std::vector<int> group;
+  std::vector<const mpu::MpuSurface*> fits;
+};
+
 class MaterialField {
  public:
   // `fits[r-1]` is region r's function (label `labels[r-1]`); `outside` the union's fit or
   // null. The fits must outlive the field.
   MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits,
                 const mpu::MpuSurface* outside, const RegionSupport* support = nullptr);
+  // A mesh's parts: parts within `contact` mm of each other share an interface; `unions`:
+  // the groups in contact with their unions' fits (none: every part a unit).
+  MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits, double contact,
+                PartUnions unions = {});
 
   int regions() const { return int(fits_.size()) + 1; }
   // The label of region r (0 for the background).
@@ -62,13 +84,16 @@ class MaterialField {
 
  private:
   double f_of(int r, const Eigen::Vector3d& p, Eigen::Vector3d* g) const;
+  // The parts' background (the header's rule) from the regions' values `f` (and
+  // gradients, whose g[0] it writes when given).
+  double parts_background(const Eigen::Vector3d& p, const std::vector<double>& f,
+                          std::vector<Eigen::Vector3d>* g) const;
   std::vector<int64_t> labels_;
   std::vector<const mpu::MpuSurface*> fits_;
   const mpu::MpuSurface* outside_;
   const RegionSupport* support_;
+  double contact_ = 0;
+  PartUnions unions_;
 };
-
-// Whether p lies within the fit's points' box, widened by 0.5% of its cube.
-bool within_fit(const mpu::MpuSurface& s, const Eigen::Vector3d& p);
 
 }  // namespace mpumesh::multi

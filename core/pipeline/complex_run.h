@@ -5,6 +5,7 @@
 // (multi/material_field.h, multi/region_support.h), the junctions and interfaces sampled
 // from the labels' samples (multi/complex_sampling.h) and one restricted Delaunay
 // triangulation of them (multi/material_delaunay.h), measured (multi/complex_figures.h).
+// A surface mesh of several parts is remeshed the same way, a part for a label.
 #pragma once
 
 #include <cstdint>
@@ -18,13 +19,19 @@
 namespace mpumesh::pipeline {
 
 struct ComplexRegion {
-  int64_t label = 0, voxels = 0;
-  double voxel_volume_mm3 = 0;  // its voxels' volume
+  int64_t label = 0, voxels = 0;  // voxels: 0 for a mesh's part
+  // What its enclosed volume is measured against: its voxels' volume (a label map) or the
+  // input part's enclosed volume (a mesh).
+  double reference_volume_mm3 = 0;
 };
 
 struct ComplexResult {
+  bool from_mesh = false;      // the parts of a surface mesh rather than a label map's labels
   LabelsResult labels;         // the labels' own runs: which were meshed, which skipped
   std::vector<ComplexRegion> regions;  // the labels meshed, ascending
+  // The closed shells the parts' runs dropped (away from the data, thinner than the fit
+  // resolves, or beyond a part's one shell).
+  int64_t shells_removed = 0;
   multi::MaterialComplex complex;
   multi::ComplexSampleStats sample;
   multi::ComplexDelaunayStats triangulation;
@@ -38,5 +45,17 @@ struct ComplexResult {
 ComplexResult run_complex(const Volume& labels_volume, const std::vector<int64_t>& labels, bool skip_failures,
                           const RunOptions& base, const BackendOpener& open_backend, Observer* observer,
                           const std::function<void(LabelRun&)>& on_label);
+
+// The parts of a closed surface mesh (each shell with its cavities; mesh/component_filter.h
+// split_parts) remeshed as one complex: the parts numbered from 1 by enclosed volume,
+// largest first, each part's run with `base` (one shell kept; without a count or spacing,
+// the default count shared among the parts by area); the parts in contact grouped, each
+// group's union fitted, the labelling of space from them (multi/material_field.h: parts
+// within their fits' tolerance share an interface, the others stay apart); the groups
+// meshed as a complex, the parts in contact with none as their own runs meshed them.
+// `name` names the mesh in messages. Throws InputError as a run on the mesh would, or
+// when the mesh has fewer than two parts.
+ComplexResult run_parts_complex(const TriangleMesh& mesh, const std::string& name, const RunOptions& base,
+                                const BackendOpener& open_backend, Observer* observer);
 
 }  // namespace mpumesh::pipeline

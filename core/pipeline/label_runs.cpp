@@ -71,8 +71,9 @@ LabelsResult run_labels(const Volume& vol, const std::vector<int64_t>& labels, b
                         const std::function<void(LabelRun&)>& on_label, bool separate) {
   Observer quiet;
   Observer& obs = observer ? *observer : quiet;
-  const std::map<int64_t, int64_t> counts = seg::label_voxel_counts(vol);
   LabelsResult out;
+  out.voxel_counts = seg::label_voxel_counts(vol);
+  const std::map<int64_t, int64_t>& counts = out.voxel_counts;
   std::vector<LabelShape> shapes;
   auto skip = [&](int64_t l, const std::string& why) {
     const auto it = counts.find(l);

@@ -45,6 +45,7 @@ struct LabelCrossing {
 };
 
 struct LabelsResult {
+  std::map<int64_t, int64_t> voxel_counts;  // every label of the map (seg::label_voxel_counts)
   std::vector<int64_t> meshed;  // in the order run
   std::vector<SkippedLabel> skipped;
   std::vector<LabelCrossing> crossings;  // sorted by (a, b)

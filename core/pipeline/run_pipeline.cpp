@@ -94,7 +94,7 @@ PointCloud points_from_mesh(Run& run, const TriangleMesh& in) {
   const auto grid = voxel_grid_spacing(in);
   PointCloud cloud = stage(run.obs, "points", [&] { return pts::mesh_points(in, !grid); });
   if (cloud.size() == 0) throw InputError(run.input + ": the mesh has no triangle with an area");
-  run.r.input.mesh = MeshInput{in.vertices.size(), in.triangles.size()};
+  run.r.input.mesh = MeshInput{in.vertices.size(), in.triangles.size(), count_parts(in)};
   if (grid) {
     const double voxel = grid->minCoeff();
     run.r.derived.sample_source.voxel_size = voxel;
@@ -341,10 +341,15 @@ void start_derived(Derived& d, const RunOptions& options) {
 // 1.8 ε0 edges). On the sample CT these are 1-7 tetrahedra of 0.05-0.8 mm³ per run.
 constexpr double kSheetThickness = 0.25;
 
-// The components filter as applied: from a volume, with the specks' bound; from any input,
-// without the shells thinner than the fit resolves (`eps`: the fit's tolerance, mm).
-ComponentOptions applied_filter(const RunOptions& options, const Volume* scan, double eps) {
+// The components filter as applied: from a volume, with the specks' bound; from a mesh,
+// at most as many shells as it has parts (unless a number is asked): a remeshed surface
+// has its input's parts, and a shell more is one the fit made away from the data; from
+// any input, without the shells thinner than the fit resolves (`eps`: the fit's
+// tolerance, mm).
+ComponentOptions applied_filter(const RunOptions& options, const Volume* scan, const std::optional<MeshInput>& mesh,
+                                double eps) {
   ComponentOptions f = options.components;
+  if (mesh && f.largest == 0) f.largest = mesh->parts;
   if (scan && options.speck_voxels > 0)
     f.min_volume_mm3 = std::max(f.min_volume_mm3, options.speck_voxels * scan->spacing.prod());
   f.min_thickness_mm = kSheetThickness * eps;
@@ -398,7 +403,7 @@ RunResult run_stages(const std::string& input, const Volume* scan, const Triangl
   r.surface = stage(run.obs, "fit", [&] { return mpu::fit_mpu(cloud, r.derived.fit, &r.fit, &index.tree); });
   if (options.fit_only) return r;
   sample_and_triangulate(run, cloud, index.tree);
-  r.derived.components = applied_filter(options, scan, r.fit.eps);
+  r.derived.components = applied_filter(options, scan, r.input.mesh, r.fit.eps);
   if (r.derived.components.active()) keep_components(run);  // before the optimisation, which then has less to do
   optimize(run);
   attach_and_check(run);

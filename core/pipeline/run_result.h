@@ -45,6 +45,7 @@ struct VolumeInput {
 // A mesh's size.
 struct MeshInput {
   size_t vertices = 0, triangles = 0;
+  int64_t parts = 0;  // closed shells, each with the cavities it encloses
 };
 
 // The input: a volume or a mesh (exactly one of the two is set).

@@ -142,7 +142,7 @@ TEST_F(Labels, OptionsThatDoNotFitALabelMapAreRefused) {
                  "--html: the complex of --labels has its figures in --report", dir_ + "/c.ply");
   expect_failure("run " + map_ + " --labels all -o " + dir_ + "/c.stl", "c.stl: the complex is written as PLY",
                  dir_ + "/c.stl");
-  expect_failure("run " + map_ + " --label 3 --separate -o " + dir_ + "/s.ply", "--separate: each label's own surface needs --labels",
+  expect_failure("run " + map_ + " --label 3 --separate -o " + dir_ + "/s.ply", "--separate: applies to --labels and to surface meshes",
                  dir_ + "/s.ply");
   expect_failure("run " + map_ + " --label 3 --threshold 2 -o " + dir_ + "/t.ply", "--threshold, --method",
                  dir_ + "/t.ply");

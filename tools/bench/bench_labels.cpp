@@ -40,6 +40,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr const char* kExtraArgs = "MPUMESH_BENCH_LABELS_ARGS";
+
 struct Args {
   std::string backend = "cpu";
   std::string real, grey;
@@ -50,7 +52,7 @@ struct Args {
 Args parse_args(int argc, char** argv) {
   Args a;
   int i = 1;
-  if (i < argc && (std::string(argv[i]) == "cpu" || std::string(argv[i]) == "gpu" || std::string(argv[i]) == "auto"))
+  if (i < argc && bench::is_backend(argv[i]))
     a.backend = argv[i++];
   for (; i < argc; ++i) {
     const std::string s = argv[i];
@@ -60,11 +62,6 @@ Args parse_args(int argc, char** argv) {
     else a.phantoms.push_back(s);
   }
   return a;
-}
-
-std::string extra_args() {
-  const char* e = std::getenv("MPUMESH_BENCH_LABELS_ARGS");
-  return e ? std::string(" ") + e : std::string();
 }
 
 void bench_phantom(const phantom::Phantom& ph, const std::string& backend, const fs::path& root) {
@@ -79,8 +76,8 @@ void bench_phantom(const phantom::Phantom& ph, const std::string& backend, const
              map.dims[0], map.dims[1], map.dims[2], map.spacing.x(), map.spacing.y(), map.spacing.z(),
              ph.shape.volume(), ph.shape.max_abs_gauss());
   const std::string ours = (dir / "ours.ply").string(), grey = (dir / "grey.ply").string();
-  const double t_ours = bench::timed_system(
-      fmt::format("{} run {} --label 1 --backend {} --quiet -o {}{}", bin, map_path, backend, ours, extra_args()));
+  const double t_ours = bench::timed_system(fmt::format("{} run {} --label 1 --backend {} --quiet -o {}{}", bin, map_path,
+                                                        backend, ours, bench::extra_args(kExtraArgs)));
   const double t_grey = bench::timed_system(fmt::format("{} run {} --threshold {} --backend {} --quiet -o {}", bin,
                                                         grey_path, phantom::half_level(ph.scan), backend, grey));
   const TriangleMesh our_mesh = read_mesh(ours);
@@ -134,7 +131,7 @@ void bench_real(const Args& args, const fs::path& root) {
              map.dims[2], map.spacing.x(), map.spacing.y(), map.spacing.z());
   const double t = bench::timed_system(fmt::format("{} run {} --labels all --separate --backend {} --quiet -o {}{}", MPUMESH_BIN,
                                                    args.real, args.backend, (dir / "label_{label}.ply").string(),
-                                                   extra_args()));
+                                                   bench::extra_args(kExtraArgs)));
   fmt::print("  ours: all labels in {:.1f} s\n", t);
   fmt::print("  {:<7} {:<12} {:>9} {:>7} {:>9} {:>6} {:>7}\n", "label", "mesh", "triangles", "closed", "manifold",
              "slice", "s");

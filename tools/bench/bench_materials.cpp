@@ -45,7 +45,7 @@ struct Args {
 Args parse_args(int argc, char** argv) {
   Args a;
   int i = 1;
-  if (i < argc && (std::string(argv[i]) == "cpu" || std::string(argv[i]) == "gpu" || std::string(argv[i]) == "auto"))
+  if (i < argc && bench::is_backend(argv[i]))
     a.backend = argv[i++];
   for (; i < argc; ++i) {
     const std::string s = argv[i];
@@ -53,11 +53,6 @@ Args parse_args(int argc, char** argv) {
     else a.phantoms.push_back(s);
   }
   return a;
-}
-
-std::string extra_args() {
-  const char* e = std::getenv("MPUMESH_BENCH_MATERIALS_ARGS");
-  return e ? std::string(" ") + e : std::string();
 }
 
 void print_header() {
@@ -98,8 +93,9 @@ void bench_phantom(const phantom::MaterialPhantom& m, const Args& args, const fs
   write_volume(map, map_path);
   fmt::print("{}: {} x {} x {} voxels of {:.2f} x {:.2f} x {:.2f} mm\n", m.name, map.dims[0], map.dims[1], map.dims[2],
              map.spacing.x(), map.spacing.y(), map.spacing.z());
-  const double t_ours = bench::timed_system(fmt::format("{} run {} --labels all --backend {} --quiet -o {}{}",
-                                                        MPUMESH_BIN, map_path, args.backend, ours, extra_args()));
+  const double t_ours =
+      bench::timed_system(fmt::format("{} run {} --labels all --backend {} --quiet -o {}{}", MPUMESH_BIN, map_path,
+                                      args.backend, ours, bench::extra_args("MPUMESH_BENCH_MATERIALS_ARGS")));
   const TriangleMesh our = read_mesh(ours);
   // Faces farther than two in-plane voxels from a junction or a sharp rim count as away.
   const double rim = 2 * map.in_plane_spacing();

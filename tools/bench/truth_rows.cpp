@@ -36,4 +36,11 @@ void print_truth_row(const std::string& name, const phantom::TruthFigures& f, do
                "", f.cap_gauss, f.barrel_gauss, f.cap_spacing, f.barrel_spacing, f.cap_spacing / f.barrel_spacing);
 }
 
+bool is_backend(const std::string& arg) { return arg == "cpu" || arg == "gpu" || arg == "auto"; }
+
+std::string extra_args(const char* name) {
+  const char* e = std::getenv(name);
+  return e ? std::string(" ") + e : std::string();
+}
+
 }  // namespace mpumesh::bench

@@ -12,6 +12,12 @@ namespace mpumesh::bench {
 // Runs `cmd` through the shell; exits the benchmark when it fails. Seconds.
 double timed_system(const std::string& cmd);
 
+// Whether a benchmark's argument names a backend (cpu, gpu, auto).
+bool is_backend(const std::string& arg);
+// The options the environment variable `name` adds to our runs, with a space in front
+// (empty when unset).
+std::string extra_args(const char* name);
+
 // The header and a row. `slices`: with the volume and slice-phase columns.
 void print_truth_header(bool slices);
 void print_truth_row(const std::string& name, const phantom::TruthFigures& f, double seconds, bool slices);

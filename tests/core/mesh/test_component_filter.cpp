@@ -61,6 +61,23 @@ TEST(ComponentOptions, KeepsTheLargestWithTheirCavities) {
   EXPECT_NEAR(v.dropped[0].centre.y(), 40, 0.5) << "the small ball is dropped";
 }
 
+TEST(ComponentOptions, SplitsAMeshIntoItsPartsLargestFirstEachWithItsCavities) {
+  const TriangleMesh m = three_structures();
+  const std::vector<MeshPart> parts = split_parts(m);
+  ASSERT_EQ(parts.size(), 3u);
+  const double big = 4.0 / 3 * M_PI * 1000, hollow = 4.0 / 3 * M_PI * (512 - 216), small = 4.0 / 3 * M_PI * 125;
+  EXPECT_NEAR(parts[0].volume_mm3, big, 0.03 * big);
+  EXPECT_NEAR(parts[1].volume_mm3, hollow, 0.03 * hollow);
+  EXPECT_NEAR(parts[2].volume_mm3, small, 0.03 * small);
+  const Topology hollow_topology = analyze_topology(parts[1].mesh);
+  EXPECT_EQ(hollow_topology.components, 2) << "the hollow ball with its cavity";
+  EXPECT_TRUE(hollow_topology.oriented);
+  EXPECT_NEAR(parts[1].mesh.vertices[0].x(), 40, 8.01);
+  size_t triangles = 0;
+  for (const MeshPart& p : parts) triangles += p.mesh.triangles.size();
+  EXPECT_EQ(triangles, m.triangles.size());
+}
+
 TEST(ComponentOptions, DropsEverythingBelowTheVolumeAsked) {
   ComponentOptions f;
   f.min_volume_mm3 = 1e6;
