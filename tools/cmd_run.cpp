@@ -16,6 +16,7 @@
 #include "component_cli.h"
 #include "io/atomic_file.h"
 #include "mesh/component_filter.h"
+#include "mesh/voxel_grid.h"
 #include "io/mesh_io.h"
 #include "io/tet_io.h"
 #include "io/volume_io.h"
@@ -252,7 +253,7 @@ void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const Com
                       {"complex", complex_json(r)},
                       {"meshed", r.labels.meshed},
                       {"version", MPUMESH_VERSION}};
-  if (!r.from_mesh) j["skipped"] = skipped_labels_json(r.labels.skipped);
+  j["skipped"] = skipped_labels_json(r.labels.skipped);
   j["stage_seconds"] = stage_seconds_json({}, progress);
   if (!o.report.empty()) write_json_file(j, o.report);
   if (common.json) std::cout << j.dump(2) << '\n';
@@ -275,16 +276,24 @@ void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const
 }
 
 // A surface mesh: its parts remeshed as one complex (pipeline/complex_run.h) when it has
-// two or more and --separate is not given, else one run.
+// two or more and --separate is not given, else one run. A marching-cubes surface (its
+// vertices on a voxel grid's edges, mesh/voxel_grid.h) is a scan's surface, its
+// components the scan's structures and specks: it is remeshed as one surface, as the scan
+// itself would be.
 void run_mesh(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
   const bool talk = !common.json && !common.quiet;
   Progress shown(!talk), progress(!talk);
   progress.begin("read mesh");
   const TriangleMesh mesh = read_mesh(o.input);
-  const size_t parts = o.separate ? 1 : split_parts(mesh).size();
+  const int64_t parts = o.separate || voxel_grid_spacing(mesh) ? 1 : count_parts(mesh);
   progress.end();
   if (parts < 2) return run_one(o, base, common, &mesh);
-  check_complex_outputs(o, fmt::format("{} ({} parts)", o.input, parts));
+  const std::string what = fmt::format("{} ({} parts)", o.input, parts);
+  check_complex_outputs(o, what);
+  if (!o.surface.empty())
+    throw InputError(fmt::format("--surface: the parts' fits of the complex of {} are not written; they come with "
+                                 "--separate",
+                                 what));
   RunObserver observer(shown, talk);
   EarlyBackend early(o.backend);
   vk::BackendChoice choice;

@@ -51,8 +51,9 @@ void add_run_parameters(CLI::App* cmd, RunCli& o) {
                 "with --labels: mesh each label's own surface instead of one complex (a label's mesh kept out of "
                 "those of the labels before it); -o, --html and --surface must hold {label}, and --report gets a "
                 "section per label. With a surface mesh of several closed parts (by default remeshed as one "
-                "complex of them, numbered by volume, largest first): remesh it as one surface, whose parts may "
-                "fuse where they come closer than the fit resolves");
+                "complex of them, numbered by volume, largest first; a marching-cubes surface always as one "
+                "surface): remesh it as one surface, whose parts may fuse where they come closer than the fit "
+                "resolves");
   cmd->add_flag("--ruled-caps", o.ruled_caps,
                 "cap points' heights from the contours alone (a ruled surface between two slices' contours), not "
                 "from the grey of the two slabs the surface crosses");

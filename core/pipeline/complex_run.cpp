@@ -95,7 +95,7 @@ RunOptions part_options(const RunOptions& base, const std::vector<MeshPart>& par
 }
 
 // The parts in contact (a part's mesh vertex within `contact` of another part's fit),
-// grouped: group[r - 1] for region r, -1 for a part in contact with none.
+// grouped: group[r - 1] for region r of `field`, -1 for a part in contact with none.
 std::vector<int> contact_groups(const multi::MaterialField& field, const std::vector<multi::Seed>& seeds,
                                 double contact, int* groups) {
   const int n = field.regions() - 1;
@@ -123,27 +123,32 @@ std::vector<int> contact_groups(const multi::MaterialField& field, const std::ve
   return group;
 }
 
-// The outside of group g: the points of its parts' meshes (vertices and triangle
-// centroids, with their normals) farther than `contact` from every other part of the
-// group, so that the faces the parts share are no data of it, fitted as one surface with
+// The outside of group g: the points of its parts' input meshes (`meshes[k]` region
+// k + 1's; vertices and triangle centroids, with their normals) farther than `contact`
+// from every other part of the group, so that the faces the parts share are no data of it, fitted as one surface with
 // `fit` (the parts' options at the parts' largest tolerance).
-mpu::MpuSurface fit_group_union(const multi::MaterialField& field, const std::vector<MeshPart>& parts,
-                                const std::vector<int>& group, int g, double contact, mpu::FitOptions fit) {
+mpu::MpuSurface fit_group_union(const multi::MaterialField& field, const std::vector<const TriangleMesh*>& meshes,
+                                const std::vector<int>& group, int g, double contact, mpu::FitOptions fit,
+                                const std::string& name) {
   PointCloud cloud;
   std::vector<double> f;
-  for (size_t k = 0; k < parts.size(); ++k) {
+  for (size_t k = 0; k < meshes.size(); ++k) {
     if (group[k] != g) continue;
-    const PointCloud own = pts::mesh_points(parts[k].mesh);
+    const PointCloud own = pts::mesh_points(*meshes[k]);
     for (size_t i = 0; i < own.size(); ++i) {
       field.values(own.positions[i], f);
       bool alone = true;
-      for (size_t s = 0; s < parts.size() && alone; ++s)
+      for (size_t s = 0; s < meshes.size() && alone; ++s)
         alone = s == k || group[s] != g || f[s + 1] >= contact;
       if (!alone) continue;
       cloud.positions.push_back(own.positions[i]);
       cloud.normals.push_back(own.normals[i]);
     }
   }
+  if (cloud.size() < size_t(fit.nmin))
+    throw InputError(fmt::format("{}: parts in contact leave {} points of their outside, fewer than a fit needs "
+                                 "({}); remesh them with --separate",
+                                 name, cloud.size(), fit.nmin));
   fit.eps = contact;
   return mpu::fit_mpu(cloud, fit);
 }
@@ -151,24 +156,38 @@ mpu::MpuSurface fit_group_union(const multi::MaterialField& field, const std::ve
 // The parts' own runs: each part's fit and mesh, its seeds, and the contact distance (the
 // parts' largest fit tolerance).
 struct PartRuns {
-  std::vector<RunResult> runs;
+  std::vector<RunResult> runs;  // the parts meshed; run j is region j + 1 of their field
+  std::vector<size_t> part;     // run j's index in the parts
   std::vector<const mpu::MpuSurface*> fits;
   std::vector<int64_t> labels;
   std::vector<multi::Seed> seeds;
   double contact = 0;
 };
 
+// A part whose run fails on its own (too small to fit, a sample that cannot close) is
+// skipped with the reason, as --labels all skips a label; the others are meshed.
 PartRuns run_parts(const std::vector<MeshPart>& parts, const std::string& name, const RunOptions& base,
                    const BackendOpener& open_backend, Observer& obs, ComplexResult& out) {
   PartRuns p;
   for (size_t k = 0; k < parts.size(); ++k) {
     const int64_t label = int64_t(k) + 1;
-    p.runs.push_back(run_pipeline(parts[k].mesh, fmt::format("{} (part {})", name, label),
-                                  part_options(base, parts, k), open_backend, &obs));
+    const std::string part = fmt::format("{} (part {})", name, label);
+    try {
+      p.runs.push_back(run_pipeline(parts[k].mesh, part, part_options(base, parts, k), open_backend, &obs));
+    } catch (const InputError& e) {
+      out.labels.skipped.push_back({label, 0, e.what()});
+      obs.note("note: " + part + ": skipped: " + e.what());
+      continue;
+    } catch (const NumericalError& e) {
+      out.labels.skipped.push_back({label, 0, e.what()});
+      obs.note("note: " + part + ": skipped: " + e.what());
+      continue;
+    }
     const RunResult& r = p.runs.back();
     if (r.components) out.shells_removed += int64_t(r.components->dropped.size());
     p.contact = std::max(p.contact, r.fit.eps);
-    add_seeds(r.mesh, int(label), p.seeds);
+    add_seeds(r.mesh, int(p.runs.size()), p.seeds);
+    p.part.push_back(k);
     p.labels.push_back(label);
     out.labels.meshed.push_back(label);
     out.regions.push_back({label, 0, parts[k].volume_mm3});
@@ -177,22 +196,25 @@ PartRuns run_parts(const std::vector<MeshPart>& parts, const std::string& name, 
   return p;
 }
 
-// The parts in contact, grouped (group[k] for part k, -1 for none), each group's union
+// The parts in contact, grouped (group[j] for run j, -1 for none), each group's union
 // fitted.
 struct ContactGroups {
   std::vector<int> group;
   std::vector<mpu::MpuSurface> unions;
 };
 
-ContactGroups contact_units(const PartRuns& p, const std::vector<MeshPart>& parts, Observer& obs) {
+ContactGroups contact_units(const PartRuns& p, const std::vector<MeshPart>& parts, const std::string& name,
+                            Observer& obs) {
   ContactGroups c;
   int groups = 0;
   const multi::MaterialField apart(p.labels, p.fits, p.contact);
   c.group = contact_groups(apart, p.seeds, p.contact, &groups);
   if (groups == 0) return c;
+  std::vector<const TriangleMesh*> meshes;
+  for (size_t k : p.part) meshes.push_back(&parts[k].mesh);
   obs.begin("fit contact unions");
   for (int g = 0; g < groups; ++g)
-    c.unions.push_back(fit_group_union(apart, parts, c.group, g, p.contact, p.runs.front().derived.fit));
+    c.unions.push_back(fit_group_union(apart, meshes, c.group, g, p.contact, p.runs.front().derived.fit, name));
   obs.end();
   return c;
 }
@@ -204,7 +226,7 @@ void assemble_parts(const PartRuns& p, const ContactGroups& c, Observer& obs, Co
   std::vector<int64_t> labels;
   std::vector<const mpu::MpuSurface*> fits;
   multi::PartUnions unions;
-  std::vector<int> region(p.labels.size() + 1, 0);  // by part label: its region in the complex
+  std::vector<int> region(p.labels.size() + 1, 0);  // a region of the parts' field: its region in the complex
   for (size_t k = 0; k < p.labels.size(); ++k) {
     if (c.group[k] < 0) continue;
     labels.push_back(p.labels[k]);
@@ -237,8 +259,9 @@ ComplexResult run_parts_complex(const TriangleMesh& mesh, const std::string& nam
   ComplexResult out;
   out.from_mesh = true;
   const PartRuns runs = run_parts(parts, name, base, open_backend, obs, out);
+  if (runs.runs.empty()) throw InputError(name + ": no part could be meshed: " + out.labels.skipped.front().reason);
   out.seconds_labels = timer.lap();
-  const ContactGroups contact = contact_units(runs, parts, obs);
+  const ContactGroups contact = contact_units(runs, parts, name, obs);
   out.seconds_union = timer.lap();
   assemble_parts(runs, contact, obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);

@@ -52,9 +52,10 @@ ComplexResult run_complex(const Volume& labels_volume, const std::vector<int64_t
 // the default count shared among the parts by area); the parts in contact grouped, each
 // group's union fitted, the labelling of space from them (multi/material_field.h: parts
 // within their fits' tolerance share an interface, the others stay apart); the groups
-// meshed as a complex, the parts in contact with none as their own runs meshed them.
-// `name` names the mesh in messages. Throws InputError as a run on the mesh would, or
-// when the mesh has fewer than two parts.
+// meshed as a complex, the parts in contact with none as their own runs meshed them. A
+// part whose run fails on its own is skipped with the reason (ComplexResult::labels).
+// `name` names the mesh in messages. Throws InputError when the mesh is not closed, has
+// fewer than two parts, or no part could be meshed.
 ComplexResult run_parts_complex(const TriangleMesh& mesh, const std::string& name, const RunOptions& base,
                                 const BackendOpener& open_backend, Observer* observer);
 

@@ -85,12 +85,29 @@ TEST_F(Parts, EachPartCutFromTheComplexAndTheOneSurfaceWithSeparate) {
   EXPECT_TRUE(analyze_topology(s).oriented);
 }
 
+// A marching-cubes surface's components are a scan's structures: remeshed as one surface.
+TEST_F(Parts, AMarchingCubesSurfaceOfSeveralPartsIsRemeshedAsOneSurface) {
+  const std::string labels = dir_ + "/labels.nii.gz", mc = dir_ + "/mc.ply", out = dir_ + "/mc_remeshed.ply";
+  write_volume(test::LabelPhantom{}.volume(), labels);
+  const Result m = run("mc " + labels + " --threshold 0.5 -o " + mc + " --quiet --backend cpu");
+  ASSERT_EQ(m.code, 0) << m.out;
+  ASSERT_GE(analyze_topology(read_mesh(mc)).components, 2);
+  const Result r = run("run " + mc + " -o " + out + " --particles 3000 --backend cpu --quiet");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const TriangleMesh s = read_mesh(out);
+  EXPECT_TRUE(s.face_labels.empty());
+  EXPECT_TRUE(analyze_topology(s).oriented);
+}
+
 TEST_F(Parts, OutputsAComplexCannotHaveAreRefusedAndNothingWritten) {
   expect_failure("run " + mesh_ + " -o " + dir_ + "/v.ply --volume " + dir_ + "/v.vtu",
                  "(5 parts): --volume fills one surface", dir_ + "/v.ply");
   expect_failure("run " + mesh_ + " -o " + dir_ + "/c.stl", "c.stl: the complex is written as PLY", dir_ + "/c.stl");
   expect_failure("run " + mesh_ + " -o " + dir_ + "/h.ply --html " + dir_ + "/h.html",
                  "--html: the complex of " + mesh_ + " (5 parts)", dir_ + "/h.ply");
+  expect_failure("run " + mesh_ + " -o " + dir_ + "/s.ply --surface " + dir_ + "/s_{label}.mpu",
+                 "--surface: the parts' fits of the complex of " + mesh_ + " (5 parts) are not written",
+                 dir_ + "/s.ply");
 }
 
 }  // namespace

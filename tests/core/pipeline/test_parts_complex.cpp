@@ -89,6 +89,23 @@ TEST(PartsComplex, ARemeshKeepsAtMostAsManyShellsAsItsInputHasParts) {
   EXPECT_EQ(analyze_topology(r.mesh).components, 2);
 }
 
+TEST(PartsComplex, APartTooSmallToFitIsSkippedWithItsReason) {
+  phantom::PartsPhantom p = phantom::parts_phantom();
+  TriangleMesh speck;  // a tetrahedron: 4 vertices and 4 centroids, too few points to fit
+  speck.vertices = {{0, 0, 0}, {0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}};
+  speck.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  const uint32_t base = uint32_t(p.mesh.vertices.size());
+  for (const auto& v : speck.vertices) p.mesh.vertices.push_back(v + Eigen::Vector3d(0, 0, 40));
+  for (const auto& t : speck.triangles) p.mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  const pipeline::ComplexResult r = remesh_parts(p.mesh, 6000);
+  ASSERT_EQ(r.labels.skipped.size(), 1u);
+  EXPECT_EQ(r.labels.skipped[0].label, 6) << "the speck is the smallest part";
+  EXPECT_NE(r.labels.skipped[0].reason.find("fit"), std::string::npos) << r.labels.skipped[0].reason;
+  EXPECT_EQ(r.labels.meshed.size(), 5u);
+  EXPECT_EQ(r.figures.regions.size(), 5u);
+  EXPECT_EQ(r.figures.crossing_pairs, 0);
+}
+
 TEST(PartsComplex, AOnePartMeshIsNoComplex) {
   EXPECT_THROW(remesh_parts(test::icosphere(5, 3), 2000), InputError);
 }
