@@ -1,7 +1,8 @@
 // `run MESH` on a surface mesh of several closed parts (the parts phantom,
 // core/phantom/parts_phantom.h): one complex whose faces carry the pair of parts they
 // separate, numbered by volume; each part's boundary cut from it with {label}; the one
-// remeshed surface with --separate; the outputs a complex cannot have refused.
+// remeshed surface with --separate, and for a marching-cubes surface; the outputs a
+// complex cannot have refused.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
