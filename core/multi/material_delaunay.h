@@ -38,8 +38,8 @@ struct ComplexDelaunayStats {
 // region (two labels a gap apart that is thinner than the sample) gets the labelling's
 // crossings from both ends too: a mesh's parts, whose gaps can be a fraction of an edge.
 // A label map's gaps are a voxel or more, about the sample's spacing; on the sample
-// project's masks the search ran the repair to its 40 rounds (100,000 points more) and
-// is not made there.
+// project's masks the search runs the repair to its 40 rounds with 100,000 points more,
+// so a label map is triangulated without it.
 MaterialComplex material_delaunay(const MaterialField& field, const std::vector<ComplexParticle>& particles,
                                   ComplexDelaunayStats* stats = nullptr, bool resolve_gaps = false);
 
