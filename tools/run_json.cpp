@@ -78,12 +78,14 @@ std::vector<std::string> spelled(const std::vector<std::string>& lines, const Op
 }  // namespace
 
 nlohmann::json input_json(const pipeline::InputInfo& in) {
-  if (in.mesh)
-    return {{"path", in.path},
-            {"kind", "mesh"},
-            {"vertices", in.mesh->vertices},
-            {"triangles", in.mesh->triangles},
-            {"parts", in.mesh->parts}};
+  if (in.mesh) {
+    nlohmann::json j = {{"path", in.path},
+                        {"kind", "mesh"},
+                        {"vertices", in.mesh->vertices},
+                        {"triangles", in.mesh->triangles}};
+    if (in.mesh->parts > 0) j["parts"] = in.mesh->parts;  // not counted for a marching-cubes surface
+    return j;
+  }
   const pipeline::VolumeInput v = in.volume.value_or(pipeline::VolumeInput{});
   return {{"path", in.path},
           {"kind", "volume"},

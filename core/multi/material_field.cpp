@@ -49,36 +49,36 @@ double MaterialField::f_of(int r, const Eigen::Vector3d& p, Eigen::Vector3d* g) 
 
 double MaterialField::parts_background(const Eigen::Vector3d& p, const std::vector<double>& f,
                                        std::vector<Eigen::Vector3d>* g) const {
-  // The units' values: each group's union once, each part on its own.
+  // The two lowest units' values (and gradients), over each group's union once and each
+  // part on its own; evaluated on the field's hot path, so kept without allocation.
   struct Unit {
-    double f;
-    Eigen::Vector3d g;
+    double f = INFINITY;
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
   };
-  std::vector<Unit> units;
-  for (size_t k = 0; k < unions_.fits.size(); ++k) {
-    Unit u{0, Eigen::Vector3d::Zero()};
-    u.f = distance_of(*unions_.fits[k], p, g ? &u.g : nullptr);
-    units.push_back(u);
+  Unit first, second;
+  auto consider = [&](double value, const Eigen::Vector3d& grad) {
+    if (value < first.f) {
+      second = first;
+      first = {value, grad};
+    } else if (value < second.f) {
+      second = {value, grad};
+    }
+  };
+  for (const mpu::MpuSurface* u : unions_.fits) {
+    Eigen::Vector3d ug = Eigen::Vector3d::Zero();
+    const double uf = distance_of(*u, p, g ? &ug : nullptr);
+    consider(uf, ug);
   }
   for (int r = 1; r < int(f.size()); ++r)
     if (unions_.group.empty() || unions_.group[size_t(r - 1)] < 0)
-      units.push_back({f[size_t(r)], g ? (*g)[size_t(r)] : Eigen::Vector3d::Zero()});
-  int first = -1, second = -1;
-  for (int u = 0; u < int(units.size()); ++u) {
-    if (first < 0 || units[size_t(u)].f < units[size_t(first)].f) {
-      second = first;
-      first = u;
-    } else if (second < 0 || units[size_t(u)].f < units[size_t(second)].f) {
-      second = u;
-    }
-  }
-  double f0 = -units[size_t(first)].f;
-  if (g) (*g)[0] = -units[size_t(first)].g;
+      consider(f[size_t(r)], g ? (*g)[size_t(r)] : Eigen::Vector3d::Zero());
+  double f0 = -first.f;
+  if (g) (*g)[0] = -first.g;
   const double T = (1 + std::sqrt(3.0) / 2) * contact_;
-  if (second >= 0 && contact_ > 0 && units[size_t(second)].f < T) {
-    const double gap = T - units[size_t(second)].f;
+  if (contact_ > 0 && second.f < T) {
+    const double gap = T - second.f;
     f0 += gap * gap / T;
-    if (g) (*g)[0] -= 2 * gap / T * units[size_t(second)].g;
+    if (g) (*g)[0] -= 2 * gap / T * second.g;
   }
   return f0;
 }

@@ -45,7 +45,9 @@ struct VolumeInput {
 // A mesh's size.
 struct MeshInput {
   size_t vertices = 0, triangles = 0;
-  int64_t parts = 0;  // closed shells, each with the cavities it encloses
+  // Closed shells, each with the cavities it encloses; 0: not counted (a marching-cubes
+  // surface, whose components are a scan's structures and specks: filtered as the scan's).
+  int64_t parts = 0;
 };
 
 // The input: a volume or a mesh (exactly one of the two is set).
