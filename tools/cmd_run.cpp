@@ -212,6 +212,7 @@ void run_labels(const RunCli& o, const pipeline::RunOptions& base, const CommonO
 // path each label's closed boundary cut from it (neighbours share their interface's
 // vertices exactly).
 void write_complex(const RunCli& o, const pipeline::ComplexResult& r, PendingOutputs& pending) {
+  if (r.volume) write_tet_mesh(r.volume->mesh, pending.add(o.volume));
   if (o.output.find(kLabelField) == std::string::npos) {
     write_mesh(r.complex.mesh, pending.add(o.output));
     return;
@@ -248,12 +249,17 @@ void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const Com
         o.output, f.regions.size(), region, r.complex.mesh.triangles.size(), f.interfaces.size(), f.junction_curves,
         f.junction_length_mm, f.min_angle_deg, f.crossing_pairs, r.shells_removed, region,
         open_edges == 0 ? "yes" : "no");
+  if (r.volume && !common.json && !common.quiet) std::cout << tet_text(o.volume, r.volume->stats);
   nlohmann::json j = {{"input", o.input},
                       {"output", o.output},
                       {"complex", complex_json(r)},
                       {"meshed", r.labels.meshed},
                       {"version", MPUMESH_VERSION}};
   j["skipped"] = skipped_labels_json(r.labels.skipped);
+  if (r.volume) {
+    j["volume_mesh"] = tet_json(r.volume->options, r.volume->stats);
+    j["volume_mesh"]["output"] = o.volume;
+  }
   j["stage_seconds"] = stage_seconds_json({}, progress);
   if (!o.report.empty()) write_json_file(j, o.report);
   if (common.json) std::cout << j.dump(2) << '\n';

@@ -1,5 +1,6 @@
-// mpumesh tetmesh: linear tetrahedra inside any closed, oriented surface mesh (core/tet),
-// written in an FE format by extension (core/io/tet_io.h).
+// mpumesh tetmesh: linear tetrahedra inside any closed, oriented surface mesh (core/tet), or
+// a multi-material complex's regions (core/multi/complex_tetrahedralize.h), written in an FE
+// format by extension (core/io/tet_io.h).
 #include <fmt/format.h>
 
 #include <iostream>
@@ -11,6 +12,7 @@
 #include "io/atomic_file.h"
 #include "io/mesh_io.h"
 #include "io/tet_io.h"
+#include "multi/complex_tetrahedralize.h"
 #include "progress.h"
 #include "option_spelling.h"
 #include "tet_cli.h"
@@ -23,9 +25,13 @@ void add_tetmesh_command(CLI::App& app, CommonOptions& common, std::function<voi
     TetOptions tet;
   };
   auto o = std::make_shared<Opts>();
-  auto* cmd = app.add_subcommand("tetmesh", "Fill a closed surface mesh with quality tetrahedra for finite elements "
-                                            "(the surface's triangles are their boundary)");
-  cmd->add_option("surface", o->input, "closed, oriented surface: .ply, .stl, .obj or .off")->required();
+  auto* cmd = app.add_subcommand("tetmesh", "Fill a closed surface mesh, or each label of a multi-material complex, "
+                                            "with quality tetrahedra for finite elements (the surface's triangles "
+                                            "are their boundary)");
+  cmd->add_option("surface", o->input,
+                  "closed, oriented surface: .ply, .stl, .obj or .off; or a complex: a PLY whose faces carry "
+                  "label_a, label_b")
+      ->required();
   cmd->add_option("-o,--output", o->output,
                   "volume mesh: .msh (gmsh 4.1), .vtu (VTK), .mesh (medit) or .inp (Abaqus/CalculiX, mesh only)")
       ->required();
@@ -46,7 +52,11 @@ void add_tetmesh_command(CLI::App& app, CommonOptions& common, std::function<voi
       TetStats st;
       TetMesh m;
       try {
-        m = tetrahedralize(surface, o->tet, &st);
+        // A complex (faces tagged label_a, label_b), or a surface with its background, as a
+        // complex; else one surface.
+        if (!surface.face_labels.empty()) m = multi::tetrahedralize_complex(surface, o->tet, &st);
+        else if (o->tet.background) m = multi::tetrahedralize_complex(multi::surface_as_complex(surface), o->tet, &st);
+        else m = tetrahedralize(surface, o->tet, &st);
       } catch (const InputError& e) {  // name the file
         const std::string what = e.what();
         throw InputError(o->input + what.substr(what.find(':')));

@@ -29,7 +29,9 @@ void add_run_paths(CLI::App* cmd, RunCli& o) {
                   "histograms, stage times");
   cmd->add_option("--volume", o.volume,
                   "also fill the mesh with tetrahedra for finite elements (its triangles their boundary) and write "
-                  "them here: .msh (gmsh 4.1), .vtu (VTK), .mesh (medit) or .inp (Abaqus/CalculiX, mesh only)");
+                  "them here: .msh (gmsh 4.1), .vtu (VTK), .mesh (medit) or .inp (Abaqus/CalculiX, mesh only); a "
+                  "complex of labels or parts gives one volume mesh, a region per label, with a group per label "
+                  "and per interface");
 }
 
 void add_run_parameters(CLI::App* cmd, RunCli& o) {
@@ -105,8 +107,9 @@ void check_label_options(const RunCli& o) {
                                  "not apply",
                                  flag));
   if (!many) return;
-  if (!o.volume.empty())
-    throw InputError("--labels: --volume fills one surface; mesh each label's surface with `mpumesh tetmesh`");
+  if (!o.volume.empty() && o.separate)
+    throw InputError("--volume: one volume mesh of the labels, a region each, comes from their complex (without "
+                     "--separate)");
   seg::parse_label_list(o.labels);  // its errors now, before the volume is read
   if (!o.separate) check_complex_outputs(o, "--labels");
   if (o.separate) check_label_paths({&o.output, &o.html, &o.surface}, "--labels");
@@ -123,10 +126,6 @@ void check_label_paths(const std::vector<const std::string*>& paths, const std::
 }
 
 void check_complex_outputs(const RunCli& o, const std::string& what) {
-  if (!o.volume.empty())
-    throw InputError(fmt::format("{}: --volume fills one surface; a complex's surfaces are filled with `mpumesh "
-                                 "tetmesh` each, or pass --separate",
-                                 what));
   if (!o.html.empty())
     throw InputError(fmt::format("--html: the complex of {} has its figures in --report; HTML reports come with "
                                  "--separate",
@@ -143,6 +142,7 @@ void check_run_outputs(const RunCli& o) {
   mesh_format_from_path(o.output);
   if (!o.report.empty()) check_writable(o.report);
   if (!o.surface.empty()) check_writable(with_label(o.surface, 0));
+  if (o.tet.background && o.volume.empty()) throw InputError("--volume-background: applies to --volume");
   if (!o.volume.empty()) {
     tet_format_from_path(o.volume);
     check_writable(o.volume);

@@ -248,6 +248,13 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
                   {"closed", x.defects == 0},
                   {"open_edges", x.defects},
                   {"components", x.components}});
+    if (r.volume)  // the tetrahedra's volume against the same reference
+      for (const LabelTetFigures& t : r.volume->stats.labels)
+        if (t.label == g.label)
+          l.update({{"tetrahedra", t.quality.tets},
+                    {"tetrahedra_volume_mm3", t.quality.volume_mm3},
+                    {"tetrahedra_volume_vs_" + against,
+                     g.reference_volume_mm3 > 0 ? t.quality.volume_mm3 / g.reference_volume_mm3 - 1 : 0.0}});
     labels.push_back(l);
   }
   nlohmann::json interfaces = nlohmann::json::array();
@@ -284,7 +291,7 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
             {"repair_rounds", t.repair_rounds},
             {"open_edges_left", t.bad_edges},
             {"seconds", t.seconds}}},
-          {"seconds", {{"labels", r.seconds_labels}, {"union", r.seconds_union}, {"complex", r.seconds_complex}}}};
+          {"seconds", {{"labels", r.seconds_labels}, {"union", r.seconds_union}, {"complex", r.seconds_complex}, {"volume_mesh", r.seconds_volume}}}};
 }
 
 }  // namespace mpumesh::tools

@@ -12,6 +12,9 @@ void add_tet_options(CLI::App* cmd, TetOptions& o, const std::string& prefix) {
                   "how fast the tetrahedra grow away from the surface: the edge length grows by at most this many mm "
                   "per mm of distance from the surface, from the surface's own spacing there")
       ->capture_default_str();
+  cmd->add_flag("--" + prefix + "background", o.background,
+                "a multi-material complex's background (label 0) meshed too, in a box 10% larger than the complex "
+                "on every side (for models of the surrounding tissue)");
 }
 
 nlohmann::json tet_quality_json(const TetQuality& q) {
@@ -46,6 +49,24 @@ nlohmann::json tet_json(const TetOptions& o, const TetStats& st) {
   j["surface_volume_mm3"] = st.surface_volume;
   j["volume_difference_pct"] = st.volume_difference_pct();
   j["seconds"] = st.seconds;
+  if (!st.labels.empty()) {
+    j["background_meshed"] = o.background;
+    j["labels"] = nlohmann::json::array();
+    // The smallest dihedral angle next to the interfaces and the junction curves (null
+    // where a label has none).
+    auto angle = [](double a) { return a < 180 ? nlohmann::json(a) : nlohmann::json(); };
+    for (const LabelTetFigures& f : st.labels) {
+      nlohmann::json l = tet_quality_json(f.quality);
+      l.erase("nodes");
+      l.erase("regions");
+      l.erase("boundary_triangles");
+      l["label"] = f.label;
+      l["boundary_volume_mm3"] = f.boundary_volume;
+      l["min_dihedral_at_interfaces_deg"] = angle(f.min_dihedral_at_interfaces);
+      l["min_dihedral_at_junctions_deg"] = angle(f.min_dihedral_at_junctions);
+      j["labels"].push_back(l);
+    }
+  }
   return j;
 }
 
@@ -59,6 +80,10 @@ std::string tet_quality_text(const TetQuality& q) {
       q.pct_min_dihedral_below_15, q.radius_ratio_mean, q.radius_ratio_min, q.volume_mm3, q.inverted);
 }
 
+namespace {
+std::string tet_labels_text(const TetStats& st);
+}  // namespace
+
 std::string tet_text(const std::string& path, const TetStats& st) {
   const TetQuality& q = st.quality;
   return fmt::format(
@@ -68,7 +93,25 @@ std::string tet_text(const std::string& path, const TetStats& st) {
       "volume              {:.2f} mm3 ({:+.4f}% of the surface's {:.2f}), {} inverted\n",
       path, q.tets, q.nodes, st.boundary_points, q.regions, st.seconds, q.min_dihedral_deg, q.max_dihedral_deg,
       q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean, q.radius_ratio_min, q.volume_mm3,
-      100 * (q.volume_mm3 - st.surface_volume) / st.surface_volume, st.surface_volume, q.inverted);
+      100 * (q.volume_mm3 - st.surface_volume) / st.surface_volume, st.surface_volume, q.inverted) +
+         tet_labels_text(st);
 }
+
+namespace {
+
+// A complex's labels, a line each.
+std::string tet_labels_text(const TetStats& st) {
+  std::string s;
+  for (const LabelTetFigures& f : st.labels) {
+    const TetQuality& q = f.quality;
+    s += fmt::format("label {:<13} {} tetrahedra, {:.2f} mm3 ({:+.2e} of its boundary's); dihedral min {:.2f} deg "
+                     "({:.2f} next to interfaces), under 15 deg {:.3f}%; radius ratio mean {:.3f}\n",
+                     f.label, q.tets, q.volume_mm3, q.volume_mm3 / f.boundary_volume - 1, q.min_dihedral_deg,
+                     f.min_dihedral_at_interfaces, q.pct_min_dihedral_below_15, q.radius_ratio_mean);
+  }
+  return s;
+}
+
+}  // namespace
 
 }  // namespace mpumesh::tools

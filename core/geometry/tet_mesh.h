@@ -1,7 +1,10 @@
 // A tetrahedral mesh in millimetres for finite elements: nodes, linear tetrahedra (4
 // nodes, positively oriented: (b - a) · ((c - a) × (d - a)) > 0), each tetrahedron's
-// region (a connected solid, numbered from 1), and the boundary triangles (outward, the
-// surface the mesh fills) with the region each bounds.
+// region, and the boundary triangles with the region each bounds. Filling one closed
+// surface, a region is a connected solid, numbered from 1, and the boundary is the surface,
+// outward. Filling a multi-material complex, a region is a label (0 the background, when
+// it is meshed) and the boundary is the complex's triangles, each once, with the two
+// labels it separates.
 #pragma once
 
 #include <Eigen/Dense>
@@ -19,7 +22,13 @@ struct TetMesh {
   std::vector<int32_t> region;  // per tet, 1..regions
   std::vector<std::array<uint32_t, 3>> boundary;
   std::vector<int32_t> boundary_region;  // per boundary triangle
-  int32_t regions = 0;
+  int32_t regions = 0;                    // how many
+  // A complex's (empty for one surface): per boundary triangle the labels (a, b), a < b, of
+  // the regions it separates, its normal from a into b; (0, 0) for the faces of the box
+  // that bounds a meshed background, facing out. boundary_region is then b (a for the box).
+  std::vector<std::array<int32_t, 2>> boundary_labels;
+
+  bool multi_material() const { return !boundary_labels.empty(); }
 };
 
 // The faces opposite each vertex, outward for a positively oriented tetrahedron.

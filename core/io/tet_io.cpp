@@ -3,7 +3,10 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <iomanip>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -12,18 +15,18 @@
 #include "common/text.h"
 #include "io/atomic_file.h"
 #include "io/read_file.h"
+#include "io/tet_text.h"
 
 namespace mpumesh {
+
+void tet_text::id_list(Out& o, const std::vector<uint32_t>& ids) {
+  for (size_t k = 0; k < ids.size(); ++k) o.put("{}{}", ids[k] + 1, (k + 1) % 16 == 0 || k + 1 == ids.size() ? "\n" : ", ");
+}
+
 namespace {
 
-// Appends to a string (fmt's buffer-free way: one allocation growing as needed).
-struct Out {
-  std::string s;
-  template <class... A>
-  void put(fmt::format_string<A...> f, A&&... a) {
-    fmt::format_to(std::back_inserter(s), f, std::forward<A>(a)...);
-  }
-};
+using tet_text::id_list;
+using tet_text::Out;
 
 // The nodes on the boundary, in order.
 std::vector<uint32_t> boundary_nodes(const TetMesh& m) {
@@ -92,13 +95,15 @@ std::string vtu(const TetMesh& m) {
   return std::move(o.s);
 }
 
-std::string medit(const TetMesh& m) {
+}  // namespace
+
+std::string tet_text::medit(const TetMesh& m, const std::string& comments, const std::vector<int32_t>& triangle_ref) {
   // A vertex's reference: the region of a tetrahedron that uses it.
   std::vector<int32_t> ref(m.nodes.size(), 0);
   for (size_t t = 0; t < m.tets.size(); ++t)
     for (uint32_t v : m.tets[t]) ref[v] = m.region[t];
   Out o;
-  o.put("MeshVersionFormatted 2\nDimension 3\nVertices\n{}\n", m.nodes.size());
+  o.put("MeshVersionFormatted 2\nDimension 3\n{}Vertices\n{}\n", comments, m.nodes.size());
   for (size_t i = 0; i < m.nodes.size(); ++i)
     o.put("{:.17g} {:.17g} {:.17g} {}\n", m.nodes[i].x(), m.nodes[i].y(), m.nodes[i].z(), ref[i]);
   o.put("Tetrahedra\n{}\n", m.tets.size());
@@ -109,16 +114,13 @@ std::string medit(const TetMesh& m) {
   o.put("Triangles\n{}\n", m.boundary.size());
   for (size_t f = 0; f < m.boundary.size(); ++f) {
     const auto& v = m.boundary[f];
-    o.put("{} {} {} {}\n", v[0] + 1, v[1] + 1, v[2] + 1, m.boundary_region[f]);
+    o.put("{} {} {} {}\n", v[0] + 1, v[1] + 1, v[2] + 1, triangle_ref[f]);
   }
   o.put("End\n");
   return std::move(o.s);
 }
 
-// Abaqus lists: at most 16 entries a line.
-void id_list(Out& o, const std::vector<uint32_t>& ids) {
-  for (size_t k = 0; k < ids.size(); ++k) o.put("{}{}", ids[k] + 1, (k + 1) % 16 == 0 || k + 1 == ids.size() ? "\n" : ", ");
-}
+namespace {
 
 std::string inp(const TetMesh& m) {
   Out o;
@@ -153,8 +155,48 @@ void finish(TetMesh& m, const std::string& path) {
   for (const auto& t : m.tets)
     for (uint32_t v : t)
       if (v >= m.nodes.size()) bad(path, "a tetrahedron names node " + std::to_string(v + 1) + " of " + std::to_string(m.nodes.size()));
-  m.regions = 0;
-  for (int32_t r : m.region) m.regions = std::max(m.regions, r);
+  std::vector<int32_t> present = m.region;
+  std::sort(present.begin(), present.end());
+  m.regions = int32_t(std::unique(present.begin(), present.end()) - present.begin());
+}
+
+// A group's name as the writers spell it (any case): label_L or region_r for tetrahedra,
+// interface_a_b or box for triangles; false for another name.
+bool parse_label(const std::string& name, int32_t& label) {
+  const std::string n = lower_case(name);
+  for (const char* prefix : {"label_", "region_"})
+    if (n.rfind(prefix, 0) == 0) return std::sscanf(n.c_str() + std::strlen(prefix), "%d", &label) == 1;
+  return false;
+}
+bool parse_interface(const std::string& name, std::array<int32_t, 2>& labels) {
+  const std::string n = lower_case(name);
+  if (n == "box") return labels = {0, 0}, true;
+  return std::sscanf(n.c_str(), "interface_%d_%d", &labels[0], &labels[1]) == 2;
+}
+
+// MSH 4.1's $Entities: each entity's first physical tag, by (dimension, tag).
+std::map<std::pair<int, int>, int> read_msh_entities(std::istream& in) {
+  std::map<std::pair<int, int>, int> physical;
+  size_t count[4];
+  in >> count[0] >> count[1] >> count[2] >> count[3];
+  for (int dim = 0; dim < 4; ++dim)
+    for (size_t e = 0; e < count[dim] && in; ++e) {
+      int tag;
+      size_t n;
+      double x;
+      in >> tag;
+      for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) in >> x;
+      in >> n;
+      for (size_t k = 0; k < n; ++k) {
+        int p;
+        in >> p;
+        if (k == 0) physical[{dim, tag}] = p;
+      }
+      if (dim == 0) continue;
+      in >> n;
+      for (size_t k = 0; k < n; ++k) in >> x;
+    }
+  return physical;
 }
 
 TetMesh read_msh(const std::string& text, const std::string& path) {
@@ -162,11 +204,30 @@ TetMesh read_msh(const std::string& text, const std::string& path) {
   std::string line;
   TetMesh m;
   std::map<int64_t, uint32_t> node_index;
+  std::map<std::pair<int, int>, std::string> names;  // (dimension, physical tag) -> name
+  std::map<std::pair<int, int>, int> physical;       // (dimension, entity tag) -> physical tag
+  auto name_of = [&](int dim, int entity) {
+    const auto p = physical.find({dim, entity});
+    if (p == physical.end()) return std::string();
+    const auto n = names.find({dim, p->second});
+    return n == names.end() ? std::string() : n->second;
+  };
   while (std::getline(in, line)) {
     if (line == "$MeshFormat") {
       std::string version;
       in >> version;
       if (version.rfind("4.1", 0) != 0) bad(path, "MSH version " + version + " (4.1 is read)");
+    } else if (line == "$PhysicalNames") {
+      size_t n;
+      in >> n;
+      for (size_t k = 0; k < n && in; ++k) {
+        int dim, tag;
+        std::string name;
+        in >> dim >> tag >> std::quoted(name);
+        names[{dim, tag}] = name;
+      }
+    } else if (line == "$Entities") {
+      physical = read_msh_entities(in);
     } else if (line == "$Nodes") {
       size_t blocks, count, lo, hi;
       in >> blocks >> count >> lo >> hi;
@@ -192,19 +253,31 @@ TetMesh read_msh(const std::string& text, const std::string& path) {
         in >> dim >> tag >> type >> n;
         const int nodes = type == 4 ? 4 : type == 2 ? 3 : type == 1 ? 2 : type == 15 ? 1 : -1;
         if (nodes < 0) bad(path, "element type " + std::to_string(type));
+        // A volume's region: its label, or its entity; a surface's triangles are a complex's
+        // interface when named so.
+        int32_t region = tag;
+        std::array<int32_t, 2> labels{};
+        if (type == 4) parse_label(name_of(dim, tag), region);
+        const bool interface = type == 2 && parse_interface(name_of(dim, tag), labels);
         for (size_t k = 0; k < n; ++k) {
           int64_t id, v[4];
           in >> id;
           for (int j = 0; j < nodes; ++j) in >> v[j];
-          if (type != 4) continue;
-          std::array<uint32_t, 4> t;
-          for (int j = 0; j < 4; ++j) {
+          if (type != 4 && !interface) continue;
+          std::array<uint32_t, 4> t{};
+          for (int j = 0; j < nodes; ++j) {
             const auto it = node_index.find(v[j]);
             if (it == node_index.end()) bad(path, "an element names node " + std::to_string(v[j]) + ", which is not listed");
             t[size_t(j)] = it->second;
           }
-          m.tets.push_back(t);
-          m.region.push_back(tag);
+          if (type == 4) {
+            m.tets.push_back(t);
+            m.region.push_back(region);
+          } else {
+            m.boundary.push_back({t[0], t[1], t[2]});
+            m.boundary_labels.push_back(labels);
+            m.boundary_region.push_back(labels[1]);
+          }
         }
       }
     }
@@ -231,13 +304,31 @@ TetMesh read_vtu(const std::string& text, const std::string& path) {
   std::istringstream p(text.substr(start + 1, end - start - 1));
   for (Eigen::Vector3d x; p >> x.x() >> x.y() >> x.z();) m.nodes.push_back(x);
   std::istringstream conn(vtu_array(text, "connectivity", path)), types(vtu_array(text, "types", path));
-  std::istringstream regions(text.find("Name=\"region\"") != std::string::npos ? vtu_array(text, "region", path) : "");
+  // The regions: `region` (one surface's), or a complex's `label`, with its triangles'
+  // `label_a` and `label_b`.
+  auto array_or_empty = [&](const char* name) {
+    return text.find("Name=\"" + std::string(name) + "\"") != std::string::npos ? vtu_array(text, name, path) : "";
+  };
+  const bool complex = text.find("Name=\"label\"") != std::string::npos;
+  std::istringstream regions(array_or_empty(complex ? "label" : "region")), label_a(array_or_empty("label_a")),
+      label_b(array_or_empty("label_b"));
   for (int type; types >> type;) {
-    if (type != 10) bad(path, "cell type " + std::to_string(type) + " (10, a tetrahedron, is read)");
+    if (type != 10 && !(complex && type == 5))
+      bad(path, "cell type " + std::to_string(type) + " (10, a tetrahedron, is read; 5, a triangle, in a complex)");
+    int32_t r = 1, a = -1, b = -1;
+    regions >> r;
+    label_a >> a;
+    label_b >> b;
+    if (type == 5) {
+      std::array<uint32_t, 3> f;
+      for (auto& v : f) conn >> v;
+      m.boundary.push_back(f);
+      m.boundary_labels.push_back({a, b});
+      m.boundary_region.push_back(b);
+      continue;
+    }
     std::array<uint32_t, 4> t;
     for (auto& v : t) conn >> v;
-    int32_t r = 1;
-    regions >> r;
     m.tets.push_back(t);
     m.region.push_back(r);
   }
@@ -264,7 +355,15 @@ void read_medit_cells(std::istream& in, std::vector<std::array<uint32_t, N>>& ce
 TetMesh read_medit(const std::string& text, const std::string& path) {
   std::istringstream in(text);
   TetMesh m;
+  std::map<int32_t, std::array<int32_t, 2>> interfaces;  // a complex's: triangle reference -> labels
   for (std::string word; in >> word;) {
+    if (word[0] == '#') {  // a comment line; a complex's interfaces are named in them
+      std::string line;
+      std::getline(in, line);
+      int32_t k, a, b;
+      if (std::sscanf(line.c_str(), " interface %d: labels %d %d", &k, &a, &b) == 3) interfaces[k] = {a, b};
+      continue;
+    }
     if (word == "Vertices") {
       size_t n;
       in >> n;
@@ -281,6 +380,13 @@ TetMesh read_medit(const std::string& text, const std::string& path) {
     }
     if (!in && !in.eof()) bad(path, "cut short or malformed after " + word);
   }
+  if (!interfaces.empty())
+    for (int32_t& ref : m.boundary_region) {
+      const auto it = interfaces.find(ref);
+      if (it == interfaces.end()) bad(path, "a triangle's reference " + std::to_string(ref) + " names no interface");
+      m.boundary_labels.push_back(it->second);
+      ref = it->second[1];
+    }
   return m;
 }
 
@@ -327,11 +433,10 @@ TetMesh read_inp(const std::string& text, const std::string& path) {
       for (int64_t id; row >> id;) elsets.back().second.push_back(id);
     }
   }
-  // The regions from the ELSETs named REGION_r.
+  // The regions from the ELSETs named REGION_r (one surface's) or LABEL_l (a complex's).
   for (const auto& [name, ids] : elsets) {
-    const std::string upper = name;
-    if (lower_case(upper).rfind("region_", 0) != 0) continue;
-    const int32_t r = std::stoi(upper.substr(7));
+    int32_t r = 0;
+    if (!parse_label(name, r)) continue;
     for (int64_t id : ids) {
       const auto it = elem_index.find(id);
       if (it != elem_index.end()) m.region[it->second] = r;
@@ -361,11 +466,12 @@ void write_tet_mesh(const TetMesh& m, const std::string& path) {
   MPUMESH_ASSERT(m.region.size() == m.tets.size() && m.boundary_region.size() == m.boundary.size(),
                  "volume mesh regions");
   std::string bytes;
+  const bool complex = m.multi_material();
   switch (f) {
-    case TetFormat::kMsh: bytes = msh(m); break;
-    case TetFormat::kVtu: bytes = vtu(m); break;
-    case TetFormat::kMedit: bytes = medit(m); break;
-    case TetFormat::kInp: bytes = inp(m); break;
+    case TetFormat::kMsh: bytes = complex ? tet_text::msh_complex(m) : msh(m); break;
+    case TetFormat::kVtu: bytes = complex ? tet_text::vtu_complex(m) : vtu(m); break;
+    case TetFormat::kMedit: bytes = complex ? tet_text::medit_complex(m) : tet_text::medit(m, "", m.boundary_region); break;
+    case TetFormat::kInp: bytes = complex ? tet_text::inp_complex(m) : inp(m); break;
   }
   write_file_atomically(bytes, path);
 }

@@ -13,6 +13,7 @@
 #include "mesh/component_filter.h"
 #include "mesh/topology.h"
 #include "points/mesh_points.h"
+#include "multi/complex_tetrahedralize.h"
 #include "multi/material_field.h"
 
 namespace mpumesh::pipeline {
@@ -65,6 +66,17 @@ void mesh_complex(const multi::MaterialField& field, const std::vector<multi::Se
   obs.end();
 }
 
+// The complex's volume mesh, when `base` asks for one.
+void fill_complex(const RunOptions& base, Observer& obs, ComplexResult& out) {
+  if (!base.volume_mesh) return;
+  obs.begin("volume mesh");
+  VolumeMeshResult v;
+  v.options = *base.volume_mesh;
+  v.mesh = multi::tetrahedralize_complex(out.complex.mesh, v.options, &v.stats);
+  out.volume = std::move(v);
+  obs.end();
+}
+
 // A closed part's mesh added to a complex as the boundary of label `label` against the
 // background (its triangles oriented from the background into it).
 void add_part_mesh(const TriangleMesh& part, int64_t label, TriangleMesh& complex) {
@@ -84,6 +96,7 @@ constexpr int64_t kMinPartParticles = 500;
 RunOptions part_options(const RunOptions& base, const std::vector<MeshPart>& parts, size_t k) {
   RunOptions each = base;
   each.components.largest = 1;
+  each.volume_mesh.reset();  // the complex's, not the part's
   if (base.sample.spacing > 0) return each;
   double area = 0;
   for (const MeshPart& p : parts) area += p.area_mm2;
@@ -266,6 +279,8 @@ ComplexResult run_parts_complex(const TriangleMesh& mesh, const std::string& nam
   assemble_parts(runs, contact, obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
+  fill_complex(base, obs, out);
+  out.seconds_volume = timer.lap();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }
@@ -284,6 +299,7 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   // touching labels' fits meet there.
   RunOptions each = base;
   each.label_shares_faces = true;
+  each.volume_mesh.reset();  // the complex's, not the label's
   out.labels = run_labels(
       vol, labels, skip_failures, each, open_backend, &obs,
       [&](LabelRun& run) {
@@ -331,6 +347,8 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   mesh_complex(field, seeds, /*resolve_gaps=*/false, obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
+  fill_complex(base, obs, out);
+  out.seconds_volume = timer.lap();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
 }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "multi/complex_figures.h"
@@ -36,7 +37,10 @@ struct ComplexResult {
   multi::ComplexSampleStats sample;
   multi::ComplexDelaunayStats triangulation;
   multi::ComplexFigures figures;
-  double seconds_labels = 0, seconds_union = 0, seconds_complex = 0, seconds = 0;
+  // RunOptions::volume_mesh: one volume mesh of the complex, a region per label
+  // (multi/complex_tetrahedralize.h).
+  std::optional<VolumeMeshResult> volume;
+  double seconds_labels = 0, seconds_union = 0, seconds_complex = 0, seconds_volume = 0, seconds = 0;
 };
 
 // The labels named (the others count as background), each label's run with `base`

@@ -15,6 +15,7 @@
 #include "common/text.h"
 #include "io/mesh_io.h"
 #include "io/volume_io.h"
+#include "multi/complex_tetrahedralize.h"
 #include "common/kd_tree.h"
 #include "mc/marching_cubes.h"
 #include "mesh/slice_phase.h"
@@ -372,7 +373,10 @@ void measure_and_fill(Run& run) {
   if (options.volume_mesh) {
     VolumeMeshResult v;
     v.options = *options.volume_mesh;
-    v.mesh = stage(run.obs, "volume mesh", [&] { return tetrahedralize(r.mesh, v.options, &v.stats); });
+    v.mesh = stage(run.obs, "volume mesh", [&] {
+      return v.options.background ? multi::tetrahedralize_complex(multi::surface_as_complex(r.mesh), v.options, &v.stats)
+                                  : tetrahedralize(r.mesh, v.options, &v.stats);
+    });
     r.volume = std::move(v);
   }
   if (r.input.volume) r.notes = r.input.volume->read_notes;

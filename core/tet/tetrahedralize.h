@@ -47,6 +47,18 @@ struct TetOptions {
   // one near 180°; TetGen's own 165° keeps dozens of tetrahedra under 10° on the sample
   // CT's default mesh, 140° keeps those of the surface alone (step 5's note).
   double max_dihedral = 140;
+  // A multi-material complex's (multi/complex_tetrahedralize.h): the background meshed too,
+  // inside a box around the complex.
+  bool background = false;
+};
+
+// One label's tetrahedra in a complex's volume mesh.
+struct LabelTetFigures {
+  int32_t label = 0;
+  TetQuality quality;
+  double boundary_volume = 0;               // enclosed by the label's boundary in the complex (mm³)
+  double min_dihedral_at_interfaces = 180;  // of its tetrahedra with a node on the complex (degrees)
+  double min_dihedral_at_junctions = 180;   // with a node on a junction curve (degrees)
 };
 
 struct TetStats {
@@ -57,9 +69,10 @@ struct TetStats {
   int64_t flat_tet_points = 0;     // points put inside to replace flat tetrahedra of surface nodes (step 3)
   int64_t perturbed = 0;           // inner nodes moved off slivers (step 5)
   double size = 0;                 // the size used (mm)
-  double surface_volume = 0;       // enclosed by the input surface (mm³)
+  double surface_volume = 0;       // enclosed by the input surface (mm³); a complex's: by its labels' boundaries
   double seconds = 0;
   TetQuality quality;
+  std::vector<LabelTetFigures> labels;  // a complex's, ascending
   // The tetrahedra's volume against the surface's, in percent.
   double volume_difference_pct() const { return 100 * (quality.volume_mm3 - surface_volume) / surface_volume; }
 };

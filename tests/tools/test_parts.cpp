@@ -14,6 +14,7 @@
 #include "cli_support.h"
 #include "io/mesh_io.h"
 #include "io/read_file.h"
+#include "io/tet_io.h"
 #include "mesh/topology.h"
 #include "phantom/parts_phantom.h"
 
@@ -38,7 +39,9 @@ phantom::PartsPhantom Parts::phantom_;
 
 TEST_F(Parts, AMeshOfFivePartsGivesOneComplexOfFiveParts) {
   const std::string complex = dir_ + "/complex.ply", report = dir_ + "/complex.json";
-  const Result r = run("run " + mesh_ + " -o " + complex + " --report " + report + " --particles 6000 --backend cpu");
+  const std::string volume = dir_ + "/parts.vtu";
+  const Result r = run("run " + mesh_ + " -o " + complex + " --report " + report + " --volume " + volume +
+                       " --particles 6000 --backend cpu");
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_NE(r.out.find("5 parts"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("every part closed: yes"), std::string::npos) << r.out;
@@ -61,7 +64,19 @@ TEST_F(Parts, AMeshOfFivePartsGivesOneComplexOfFiveParts) {
     EXPECT_NEAR(l["input_volume_mm3"].get<double>(), phantom_.part_volumes[k], 1e-6 * phantom_.part_volumes[k]);
     EXPECT_LT(std::abs(l["volume_vs_input"].get<double>()), 0.01) << l.dump();
     EXPECT_FALSE(l.contains("voxels"));
+    // Its tetrahedra fill its boundary in the complex.
+    EXPECT_NEAR(l["tetrahedra_volume_mm3"].get<double>(), l["volume_mm3"].get<double>(),
+                1e-6 * l["volume_mm3"].get<double>());
   }
+  // One volume mesh, a region per part; the touching pair's disc its only shared faces.
+  const TetMesh v = read_tet_mesh(volume);
+  EXPECT_EQ(std::set<int32_t>(v.region.begin(), v.region.end()), (std::set<int32_t>{1, 2, 3, 4, 5}));
+  std::set<std::pair<int, int>> volume_pairs;
+  for (const auto& l : v.boundary_labels) volume_pairs.insert({l[0], l[1]});
+  EXPECT_EQ(volume_pairs, expected);
+  EXPECT_EQ(j["volume_mesh"]["labels"].size(), 5u);
+  EXPECT_EQ(j["volume_mesh"]["inverted"], 0);
+  EXPECT_EQ(j["volume_mesh"]["output"], volume);
 }
 
 TEST_F(Parts, EachPartCutFromTheComplexAndTheOneSurfaceWithSeparate) {
@@ -101,8 +116,6 @@ TEST_F(Parts, AMarchingCubesSurfaceOfSeveralPartsIsRemeshedAsOneSurface) {
 }
 
 TEST_F(Parts, OutputsAComplexCannotHaveAreRefusedAndNothingWritten) {
-  expect_failure("run " + mesh_ + " -o " + dir_ + "/v.ply --volume " + dir_ + "/v.vtu",
-                 "(5 parts): --volume fills one surface", dir_ + "/v.ply");
   expect_failure("run " + mesh_ + " -o " + dir_ + "/c.stl", "c.stl: the complex is written as PLY", dir_ + "/c.stl");
   expect_failure("run " + mesh_ + " -o " + dir_ + "/h.ply --html " + dir_ + "/h.html",
                  "--html: the complex of " + mesh_ + " (5 parts)", dir_ + "/h.ply");

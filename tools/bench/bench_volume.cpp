@@ -1,22 +1,38 @@
-// Benchmark: the volume mesh of the sample CT's bone against CGAL Mesh_3's of the gray
-// image, both in this run. Ours: the pipeline `mpumesh run VOLUME --threshold T --volume
-// V.msh` runs (core/pipeline, the surface at the default size, then TetGen, timed as the
-// 'volume mesh' stage and against the surface run); CGAL: Mesh_3 on the gray image
-// (tools/bench/cgal_mesh3_peer.h) with cell criteria (radius-edge ratio 3, the cell size
-// ours used), sliver perturbation and exudation, its facet size set for about our surface's
-// triangle count (one correction after a first try). For each: tetrahedra, nodes, dihedral
-// angles (smallest, % of tetrahedra with one under 10° and 15°), mean radius ratio, time.
+// Benchmark: volume meshes against CGAL Mesh_3's, both in this run.
+// - The sample CT's bone against Mesh_3's of the gray image. Ours: the pipeline `mpumesh
+//   run VOLUME --threshold T --volume V.msh` runs (core/pipeline, the surface at the default
+//   size, then TetGen, timed as the 'volume mesh' stage and against the surface run); CGAL:
+//   Mesh_3 on the gray image (tools/bench/cgal_mesh3_peer.h) with cell criteria
+//   (radius-edge ratio 3, the cell size ours used), sliver perturbation and exudation, its
+//   facet size set for about our surface's triangle count (one correction after a first
+//   try).
+// - `--materials`: the multi-material phantoms (core/phantom/material_phantom.h) as label
+//   maps. Ours: `mpumesh run MAP --labels all -o complex.ply --volume complex.vtu` as a
+//   user runs it, a region per label; CGAL: Mesh_3 on the labelled image at about our
+//   complex's triangle count with the same cell criteria, a subdomain per label. Both read
+//   back and measured per label.
+// For each: tetrahedra, nodes, dihedral angles (smallest, % of tetrahedra with one under
+// 10° and 15°), mean radius ratio, time.
 // Usage: mpumesh_bench_volume VOLUME [THRESHOLD] [PARTICLES]
+//        mpumesh_bench_volume --materials [cpu|gpu|auto]
 #include <fmt/format.h>
 
 #include <chrono>
 #include <cmath>
 
+#include <filesystem>
+#include <map>
+
 #include "cgal_mesh3_peer.h"
 #include "cpu/cpu_backend.h"
+#include "io/mesh_io.h"
+#include "io/tet_io.h"
 #include "io/volume_io.h"
+#include "phantom/material_phantom.h"
 #include "pipeline/run_pipeline.h"
 #include "tet/tet_quality.h"
+#include "tet/tetgen_steps.h"
+#include "truth_rows.h"
 
 using namespace mpumesh;
 
@@ -38,13 +54,74 @@ void row(const char* name, int64_t triangles, const TetQuality& q, double second
              q.min_dihedral_deg, q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean, seconds);
 }
 
+// Each label's tetrahedra's figures.
+std::map<int32_t, TetQuality> by_label(const TetMesh& m) {
+  std::map<int32_t, TetMesh> parts;
+  for (size_t t = 0; t < m.tets.size(); ++t) parts[m.region[t]].tets.push_back(m.tets[t]);
+  std::map<int32_t, TetQuality> out;
+  for (auto& [label, part] : parts) {
+    part.nodes = m.nodes;
+    part.region.assign(part.tets.size(), 1);
+    out[label] = measure_tet_quality(part);
+  }
+  return out;
+}
+
+void label_rows(const char* name, int64_t triangles, const TetMesh& m, double seconds) {
+  row(name, triangles, measure_tet_quality(m), seconds);
+  for (const auto& [label, q] : by_label(m))
+    fmt::print("  label {:<6} {:>9} {:>9} {:>8} {:>8.2f} {:>7.3f} {:>7.3f} {:>6.3f}\n", label, "", q.tets, "",
+               q.min_dihedral_deg, q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean);
+}
+
+int materials(const std::string& backend) {
+  const std::filesystem::path root = std::filesystem::temp_directory_path() / "mpumesh_bench_volume";
+  std::filesystem::create_directories(root);
+  double ours_total = 0, mesh3_total = 0;
+  for (const phantom::MaterialPhantom& m : phantom::material_suite()) {
+    const Volume map = phantom::material_scan(m);
+    std::string name = m.name;
+    std::replace(name.begin(), name.end(), ' ', '_');
+    const std::string map_path = (root / (name + ".nii.gz")).string(), complex = (root / (name + ".ply")).string(),
+                      volume = (root / (name + ".vtu")).string();
+    write_volume(map, map_path);
+    const double t_ours = bench::timed_system(fmt::format("{} run {} --labels all --backend {} --quiet -o {} --volume {}",
+                                                          MPUMESH_BIN, map_path, backend, complex, volume));
+    const TriangleMesh ours_surface = read_mesh(complex);
+    const TetMesh ours = read_tet_mesh(volume);
+    bench::Mesh3Params p;
+    p.labels = true;
+    p.manifold = false;  // a complex is non-manifold along its junctions
+    p.cell_size = tetgen_steps::interior_size(mean_edge_lengths(ours_surface), 0);  // the size ours used
+    const bench::Mesh3Result cg = bench::cgal_mesh3_matching(map, p, ours_surface);
+    fmt::print("\n{}: {} x {} x {} voxels of {:.2f} x {:.2f} x {:.2f} mm; Mesh_3 facet size {:.2f} mm, distance "
+               "{:.2f} mm, cell size {:.2f} mm\n",
+               m.name, map.dims[0], map.dims[1], map.dims[2], map.spacing.x(), map.spacing.y(), map.spacing.z(),
+               p.facet_size, p.facet_distance, p.cell_size);
+    fmt::print("{:<14} {:>9} {:>9} {:>8} {:>8} {:>7} {:>7} {:>6} {:>8}\n", "mesh", "surface", "tets", "nodes", "min dih",
+               "%<10", "%<15", "RR", "time s");
+    label_rows("ours", int64_t(ours_surface.triangles.size()), ours, t_ours);
+    label_rows("CGAL Mesh_3", int64_t(cg.mesh.triangles.size()), cg.volume, cg.seconds);
+    fmt::print("time ours / CGAL Mesh_3: {:.2f}\n", t_ours / cg.seconds);
+    ours_total += t_ours, mesh3_total += cg.seconds;
+    std::fflush(stdout);
+  }
+  fmt::print("\n(surface: the complex's triangles; min dih: smallest dihedral angle, degrees; %<10, %<15: % of "
+             "tetrahedra with a dihedral angle under 10, 15 degrees; RR: mean radius ratio 3 r_in / r_circ; time: ours "
+             "the whole `run` from the label map, a process as a user starts it; CGAL's Mesh_3 run)\n");
+  fmt::print("all phantoms, time ours / CGAL Mesh_3: {:.2f}\n", ours_total / mesh3_total);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) {
-    std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES]\n", argv[0]);
+    std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES]\n       %s --materials [cpu|gpu|auto]\n", argv[0],
+                 argv[0]);
     return 2;
   }
+  if (std::string(argv[1]) == "--materials") return materials(argc > 2 ? argv[2] : "cpu");
   const std::string path = argv[1];
   const double iso = argc > 2 ? std::stod(argv[2]) : 226;
   const Volume vol = read_volume(path);

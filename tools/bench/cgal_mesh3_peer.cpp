@@ -10,6 +10,7 @@
 #include <CGAL/Mesh_3/initialize_triangulation_from_gray_image.h>
 #include <CGAL/Mesh_3/initialize_triangulation_from_labeled_image.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
@@ -101,9 +102,11 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
     std::cout.rdbuf(saved);
   }
   r.initial_points = int64_t(c3t3.triangulation().number_of_vertices());
-  if (p.cell_size > 0)
+  if (p.cell_size > 0 && p.manifold)
     CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude(),
                         CGAL::parameters::manifold());
+  else if (p.cell_size > 0)
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude());
   else if (p.manifold)
     CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude(),
                         CGAL::parameters::manifold());
@@ -151,10 +154,12 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
         t[size_t(k)] = at->second;
       }
       r.volume.tets.push_back(t);
-      r.volume.region.push_back(1);
+      r.volume.region.push_back(p.labels ? int32_t(c3t3.subdomain_index(it)) : 1);
     }
     r.volume.nodes = r.mesh.vertices;
-    r.volume.regions = 1;
+    std::vector<int32_t> present = r.volume.region;
+    std::sort(present.begin(), present.end());
+    r.volume.regions = int32_t(std::unique(present.begin(), present.end()) - present.begin());
     for (auto& t : r.volume.tets) {  // positive in the physical frame (the direction may mirror)
       const auto& n = r.volume.nodes;
       if ((n[t[1]] - n[t[0]]).dot((n[t[2]] - n[t[0]]).cross(n[t[3]] - n[t[0]])) < 0) std::swap(t[2], t[3]);

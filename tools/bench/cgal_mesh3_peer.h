@@ -32,7 +32,7 @@ struct Mesh3Result {
   // The facets in the complex, each oriented out of its higher subdomain's cell; for a
   // label map, face_labels holds each facet's two subdomains (0 outside), lower first.
   TriangleMesh mesh;
-  TetMesh volume;  // with cell_size: the cells in the complex, one region
+  TetMesh volume;  // with cell_size: the cells in the complex, one region (a label map's: a region per label)
   int64_t initial_points = 0;  // after the initialisation
   double seconds = 0;  // domain, initial points and refinement
 };
