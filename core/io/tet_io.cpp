@@ -187,14 +187,14 @@ std::map<std::pair<int, int>, int> read_msh_entities(std::istream& in) {
       in >> tag;
       for (int k = 0; k < (dim == 0 ? 3 : 6); ++k) in >> x;
       in >> n;
-      for (size_t k = 0; k < n; ++k) {
+      for (size_t k = 0; k < n && in; ++k) {
         int p;
         in >> p;
         if (k == 0) physical[{dim, tag}] = p;
       }
       if (dim == 0) continue;
       in >> n;
-      for (size_t k = 0; k < n; ++k) in >> x;
+      for (size_t k = 0; k < n && in; ++k) in >> x;
     }
   return physical;
 }
@@ -235,6 +235,7 @@ TetMesh read_msh(const std::string& text, const std::string& path) {
         int dim, tag, param;
         size_t n;
         in >> dim >> tag >> param >> n;
+        if (!in || n > text.size()) bad(path, "a node block cut short or malformed");
         std::vector<int64_t> tags(n);
         for (auto& t : tags) in >> t;
         for (size_t k = 0; k < n; ++k) {
@@ -263,6 +264,7 @@ TetMesh read_msh(const std::string& text, const std::string& path) {
           int64_t id, v[4];
           in >> id;
           for (int j = 0; j < nodes; ++j) in >> v[j];
+          if (!in) bad(path, "an element block cut short or malformed");
           if (type != 4 && !interface) continue;
           std::array<uint32_t, 4> t{};
           for (int j = 0; j < nodes; ++j) {
@@ -342,7 +344,7 @@ template <size_t N>
 void read_medit_cells(std::istream& in, std::vector<std::array<uint32_t, N>>& cells, std::vector<int32_t>& refs) {
   size_t n;
   in >> n;
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = 0; i < n && in; ++i) {
     std::array<uint32_t, N> c;
     int32_t ref;
     for (auto& v : c) in >> v, --v;
@@ -367,7 +369,7 @@ TetMesh read_medit(const std::string& text, const std::string& path) {
     if (word == "Vertices") {
       size_t n;
       in >> n;
-      for (size_t i = 0; i < n; ++i) {
+      for (size_t i = 0; i < n && in; ++i) {
         Eigen::Vector3d p;
         int ref;
         in >> p.x() >> p.y() >> p.z() >> ref;

@@ -215,6 +215,13 @@ TEST(BadInput, MeshesAndSurfaces) {
   // run refuses to remesh it.
   expect_failure("run " + dir + "/fin.off -o " + dir + "/o.ply", "fin.off: the input mesh is not a closed manifold",
                  dir + "/o.ply");
+  // Volume meshes whose counts promise more than the file holds are refused at once.
+  std::ofstream(dir + "/huge.msh") << "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Entities\n0 0 0 1\n"
+                                      "1 0 0 0 1 1 1 99999999999999 1\n$EndEntities\n$Nodes\n1 3 1 3\n"
+                                      "3 1 0 99999999999999\n1\n";
+  std::ofstream(dir + "/huge.mesh") << "MeshVersionFormatted 2\nDimension 3\nVertices\n99999999999999\n0 0 0 1\n";
+  expect_failure("quality " + dir + "/huge.msh", "huge.msh: not a volume mesh mpumesh can read", dir + "/none");
+  expect_failure("quality " + dir + "/huge.mesh", "huge.mesh: not a volume mesh mpumesh can read", dir + "/none");
 }
 
 TEST(BadInput, AbsurdParameters) {
