@@ -291,7 +291,11 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
             {"repair_rounds", t.repair_rounds},
             {"open_edges_left", t.bad_edges},
             {"seconds", t.seconds}}},
-          {"seconds", {{"labels", r.seconds_labels}, {"union", r.seconds_union}, {"complex", r.seconds_complex}, {"volume_mesh", r.seconds_volume}}}};
+          {"seconds",
+           {{"labels", r.seconds_labels},
+            {"union", r.seconds_union},
+            {"complex", r.seconds_complex},
+            {"volume_mesh", r.seconds_volume}}}};
 }
 
 }  // namespace mpumesh::tools

@@ -13,8 +13,8 @@ void add_tet_options(CLI::App* cmd, TetOptions& o, const std::string& prefix) {
                   "per mm of distance from the surface, from the surface's own spacing there")
       ->capture_default_str();
   cmd->add_flag("--" + prefix + "background", o.background,
-                "a multi-material complex's background (label 0) meshed too, in a box 10% larger than the complex "
-                "on every side (for models of the surrounding tissue)");
+                "the background meshed too, as label 0, in a box 10% larger than the complex or the surface on "
+                "every side (a surface is then label 1), for models of the surrounding tissue");
 }
 
 nlohmann::json tet_quality_json(const TetQuality& q) {
@@ -81,23 +81,6 @@ std::string tet_quality_text(const TetQuality& q) {
 }
 
 namespace {
-std::string tet_labels_text(const TetStats& st);
-}  // namespace
-
-std::string tet_text(const std::string& path, const TetStats& st) {
-  const TetQuality& q = st.quality;
-  return fmt::format(
-      "{}: {} tetrahedra, {} nodes ({} added on the surface), {} regions, {:.2f} s\n"
-      "dihedral angles     min {:.2f} max {:.2f} deg; tetrahedra with one under 10 deg {:.3f}%, under 15 deg {:.3f}%\n"
-      "radius ratio        mean {:.3f} min {:.3f} (3 r_in / r_circ)\n"
-      "volume              {:.2f} mm3 ({:+.4f}% of the surface's {:.2f}), {} inverted\n",
-      path, q.tets, q.nodes, st.boundary_points, q.regions, st.seconds, q.min_dihedral_deg, q.max_dihedral_deg,
-      q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean, q.radius_ratio_min, q.volume_mm3,
-      100 * (q.volume_mm3 - st.surface_volume) / st.surface_volume, st.surface_volume, q.inverted) +
-         tet_labels_text(st);
-}
-
-namespace {
 
 // A complex's labels, a line each.
 std::string tet_labels_text(const TetStats& st) {
@@ -113,5 +96,18 @@ std::string tet_labels_text(const TetStats& st) {
 }
 
 }  // namespace
+
+std::string tet_text(const std::string& path, const TetStats& st) {
+  const TetQuality& q = st.quality;
+  return fmt::format(
+      "{}: {} tetrahedra, {} nodes ({} added on the surface), {} regions, {:.2f} s\n"
+      "dihedral angles     min {:.2f} max {:.2f} deg; tetrahedra with one under 10 deg {:.3f}%, under 15 deg {:.3f}%\n"
+      "radius ratio        mean {:.3f} min {:.3f} (3 r_in / r_circ)\n"
+      "volume              {:.2f} mm3 ({:+.4f}% of the surface's {:.2f}), {} inverted\n",
+      path, q.tets, q.nodes, st.boundary_points, q.regions, st.seconds, q.min_dihedral_deg, q.max_dihedral_deg,
+      q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean, q.radius_ratio_min, q.volume_mm3,
+      100 * (q.volume_mm3 - st.surface_volume) / st.surface_volume, st.surface_volume, q.inverted) +
+         tet_labels_text(st);
+}
 
 }  // namespace mpumesh::tools

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "common/error.h"
+#include "geometry/drop_unused.h"
 #include "multi/complex_figures.h"
 #include "tet/tet_quality.h"
 #include "tet/tetgen_steps.h"
@@ -170,8 +171,14 @@ std::vector<LabelTetFigures> label_figures(const TetMesh& m, const TriangleMesh&
 
 }  // namespace
 
-TetMesh tetrahedralize_complex(const TriangleMesh& complex, const TetOptions& opt, TetStats* stats_out) {
+TetMesh tetrahedralize_complex(const TriangleMesh& input, const TetOptions& opt, TetStats* stats_out) {
   const auto t0 = std::chrono::steady_clock::now();
+  // Without the vertices no triangle uses: each would be a node with no spacing of its own.
+  TriangleMesh complex;
+  complex.vertices = input.vertices;
+  complex.triangles = input.triangles;
+  complex.face_labels = input.face_labels;
+  drop_unused_points(complex.vertices, complex.triangles);
   check_complex(complex);
   TetStats st;
   st.surface_points = int64_t(complex.vertices.size());
@@ -185,11 +192,12 @@ TetMesh tetrahedralize_complex(const TriangleMesh& complex, const TetOptions& op
   const std::unique_ptr<tetgenio> out = quality_tetrahedra(plc, spacing, opt, st.size, FlatSide::kFromTetrahedron, st);
   TetMesh m = to_complex_mesh(*out, plc, sides, complex.triangles.size(), opt.background);
   st.perturbed = perturb_slivers(m, uint32_t(plc.vertices.size()));
-  finish(m, plc.vertices.size(), t0, st);
   TriangleMesh box;
   box.vertices = plc.vertices;
   box.triangles.assign(plc.triangles.begin() + ptrdiff_t(complex.triangles.size()), plc.triangles.end());
+  // Before finish() drops the unused nodes: the complex's vertices are still the first nodes.
   st.labels = label_figures(m, complex, opt.background ? enclosed_volume(box) : 0);
+  finish(m, plc.vertices.size(), t0, st);
   for (const LabelTetFigures& f : st.labels) st.surface_volume += f.boundary_volume;
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = st;

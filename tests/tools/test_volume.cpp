@@ -88,6 +88,12 @@ TEST(Volume, RunWritesTheVolumeMeshAndReportsIt) {
   const std::string html = read_file(dir + "/r.html");
   EXPECT_NE(html.find("Volume mesh"), std::string::npos);
   EXPECT_NE(html.find("Dihedral angles of the tetrahedra"), std::string::npos);
+  // With the background: the ball is label 1 in a box of label 0.
+  const Result b = run("run " + ball + " --threshold 0 -o " + dir + "/bb.ply --volume " + dir +
+                       "/bb.msh --volume-background --backend cpu --quiet");
+  ASSERT_EQ(b.code, 0) << b.out;
+  const TetMesh bb = read_tet_mesh(dir + "/bb.msh");
+  EXPECT_EQ(std::set<int32_t>(bb.region.begin(), bb.region.end()), (std::set<int32_t>{0, 1}));
   // Refused before any work: a volume with --separate, a background without a volume, an
   // unknown format.
   expect_failure("run " + ball + " --labels all --separate -o " + dir + "/l_{label}.ply --volume " + dir + "/l.msh",

@@ -186,6 +186,21 @@ TEST(ComplexTetsFormats, GroupsSurviveEveryFormat) {
   }
 }
 
+// A vertex no triangle uses (a PLY may hold one) changes nothing.
+TEST(ComplexTetsInput, VerticesNoTriangleUsesAreIgnored) {
+  const TriangleMesh& c = phantom_complex("nested");
+  TriangleMesh extra = c;
+  extra.vertices.insert(extra.vertices.begin(), Eigen::Vector3d(1, 2, 3));
+  for (auto& t : extra.triangles)
+    for (auto& v : t) ++v;
+  TetStats a, b;
+  const TetMesh ma = multi::tetrahedralize_complex(c, TetOptions{}, &a);
+  const TetMesh mb = multi::tetrahedralize_complex(extra, TetOptions{}, &b);
+  EXPECT_EQ(ma.tets, mb.tets);
+  EXPECT_EQ(a.labels.size(), b.labels.size());
+  EXPECT_EQ(a.labels.back().min_dihedral_at_interfaces, b.labels.back().min_dihedral_at_interfaces);
+}
+
 // A label whose boundary is open is refused, naming it; so is a mesh without labels.
 TEST(ComplexTetsRefusal, OpenLabelBoundaryIsNamed) {
   TriangleMesh c = phantom_complex("nested");
