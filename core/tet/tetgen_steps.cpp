@@ -15,10 +15,10 @@
 
 namespace mpumesh::tetgen_steps {
 
-uint64_t face_key(uint32_t a, uint32_t b, uint32_t c) {
-  std::array<uint32_t, 3> v = {a, b, c};
+FaceKey face_key(uint32_t a, uint32_t b, uint32_t c) {
+  FaceKey v = {a, b, c};
   std::sort(v.begin(), v.end());
-  return (uint64_t(v[0]) << 42) ^ (uint64_t(v[1]) << 21) ^ uint64_t(v[2]);
+  return v;
 }
 
 SurfaceFaces surface_faces(const TriangleMesh& surface) {
@@ -278,7 +278,7 @@ Components solid_components(const std::vector<std::array<uint32_t, 4>>& tets, co
   // has a tetrahedron on either side); any other face joins the two tetrahedra that share it.
   const size_t nt = tets.size();
   Components c;
-  std::unordered_map<uint64_t, uint32_t> open;  // an inner face seen once -> its tetrahedron
+  std::unordered_map<FaceKey, uint32_t, FaceKeyHash> open;  // an inner face seen once -> its tetrahedron
   open.reserve(nt * 2);
   std::vector<uint32_t> parent(nt);
   std::iota(parent.begin(), parent.end(), 0u);
@@ -289,7 +289,7 @@ Components solid_components(const std::vector<std::array<uint32_t, 4>>& tets, co
   for (uint32_t t = 0; t < nt; ++t)
     for (int f = 0; f < 4; ++f) {
       const auto& v = tets[t];
-      const uint64_t key = face_key(v[size_t(kTetFace[f][0])], v[size_t(kTetFace[f][1])], v[size_t(kTetFace[f][2])]);
+      const FaceKey key = face_key(v[size_t(kTetFace[f][0])], v[size_t(kTetFace[f][1])], v[size_t(kTetFace[f][2])]);
       if (input.count(key)) {
         c.faces.push_back({key, t, f});
         continue;

@@ -14,6 +14,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -26,11 +27,17 @@
 
 namespace mpumesh::tetgen_steps {
 
-// The triangle abc as one key, whatever the order of its nodes.
-uint64_t face_key(uint32_t a, uint32_t b, uint32_t c);
+// The triangle abc as one key, whatever the order of its nodes: its nodes ascending.
+using FaceKey = std::array<uint32_t, 3>;
+FaceKey face_key(uint32_t a, uint32_t b, uint32_t c);
+struct FaceKeyHash {
+  size_t operator()(const FaceKey& k) const {
+    return std::hash<uint64_t>()((uint64_t(k[0]) << 32 | k[1]) * 0x9E3779B97F4A7C15ull ^ k[2]);
+  }
+};
 
 // The surface's triangles by their nodes (face_key).
-using SurfaceFaces = std::unordered_map<uint64_t, const std::array<uint32_t, 3>*>;
+using SurfaceFaces = std::unordered_map<FaceKey, const std::array<uint32_t, 3>*, FaceKeyHash>;
 SurfaceFaces surface_faces(const TriangleMesh& surface);
 
 // How step 3 finds the inside beneath a flat tetrahedron's faces on the surface: the
@@ -53,7 +60,7 @@ std::vector<std::array<uint32_t, 4>> positive_tets(const tetgenio& out, std::vec
 struct Components {
   std::vector<uint32_t> component;  // per tetrahedron: the smallest tetrahedron of its component
   struct Face {
-    uint64_t key;
+    FaceKey key;
     uint32_t tet;
     int face;  // kTetFace's
     bool operator<(const Face& o) const { return std::pair(key, std::pair(tet, face)) < std::pair(o.key, std::pair(o.tet, o.face)); }
