@@ -155,6 +155,9 @@ void finish(TetMesh& m, const std::string& path) {
   for (const auto& t : m.tets)
     for (uint32_t v : t)
       if (v >= m.nodes.size()) bad(path, "a tetrahedron names node " + std::to_string(v + 1) + " of " + std::to_string(m.nodes.size()));
+  for (const auto& f : m.boundary)
+    for (uint32_t v : f)
+      if (v >= m.nodes.size()) bad(path, "a triangle names node " + std::to_string(v + 1) + " of " + std::to_string(m.nodes.size()));
   std::vector<int32_t> present = m.region;
   std::sort(present.begin(), present.end());
   m.regions = int32_t(std::unique(present.begin(), present.end()) - present.begin());

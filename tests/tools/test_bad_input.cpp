@@ -222,6 +222,10 @@ TEST(BadInput, MeshesAndSurfaces) {
   std::ofstream(dir + "/huge.mesh") << "MeshVersionFormatted 2\nDimension 3\nVertices\n99999999999999\n0 0 0 1\n";
   expect_failure("quality " + dir + "/huge.msh", "huge.msh: not a volume mesh mpumesh can read", dir + "/none");
   expect_failure("quality " + dir + "/huge.mesh", "huge.mesh: not a volume mesh mpumesh can read", dir + "/none");
+  std::ofstream(dir + "/far.mesh") << "MeshVersionFormatted 2\nDimension 3\nVertices\n4\n0 0 0 1\n1 0 0 1\n0 1 0 1\n"
+                                      "0 0 1 1\nTetrahedra\n1\n1 2 3 4 1\nTriangles\n1\n1 2 9 1\nEnd\n";
+  expect_failure("quality " + dir + "/far.mesh", "far.mesh: not a volume mesh mpumesh can read: a triangle names node 9",
+                 dir + "/none");
 }
 
 TEST(BadInput, AbsurdParameters) {
