@@ -13,8 +13,9 @@ void add_tet_options(CLI::App* cmd, TetOptions& o, const std::string& prefix) {
                   "per mm of distance from the surface, from the surface's own spacing there")
       ->capture_default_str();
   cmd->add_flag("--" + prefix + "background", o.background,
-                "the background meshed too, as label 0, in a box 10% larger than the complex or the surface on "
-                "every side (a surface is then label 1), for models of the surrounding tissue");
+                "the background meshed too, as label 0, in a box around the complex or the surface, larger on "
+                "every side by 10% of its largest extent or the inner size, whichever is more (a surface is then "
+                "label 1), for models of the surrounding tissue");
 }
 
 nlohmann::json tet_quality_json(const TetQuality& q) {
