@@ -66,13 +66,17 @@ void mesh_complex(const multi::MaterialField& field, const std::vector<multi::Se
   obs.end();
 }
 
-// The complex's volume mesh, when `base` asks for one.
-void fill_complex(const RunOptions& base, Observer& obs, ComplexResult& out) {
+// The complex's volume mesh, when `base` asks for one (`name` names the input in errors).
+void fill_complex(const RunOptions& base, const std::string& name, Observer& obs, ComplexResult& out) {
   if (!base.volume_mesh) return;
   obs.begin("volume mesh");
   VolumeMeshResult v;
   v.options = *base.volume_mesh;
-  v.mesh = multi::tetrahedralize_complex(out.complex.mesh, v.options, &v.stats);
+  try {
+    v.mesh = multi::tetrahedralize_complex(out.complex.mesh, v.options, &v.stats);
+  } catch (const InputError& e) {
+    throw volume_mesh_error(name, e);
+  }
   out.volume = std::move(v);
   obs.end();
 }
@@ -279,7 +283,7 @@ ComplexResult run_parts_complex(const TriangleMesh& mesh, const std::string& nam
   assemble_parts(runs, contact, obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
-  fill_complex(base, obs, out);
+  fill_complex(base, name, obs, out);
   out.seconds_volume = timer.lap();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
@@ -347,7 +351,7 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   mesh_complex(field, seeds, /*resolve_gaps=*/false, obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
-  fill_complex(base, obs, out);
+  fill_complex(base, vol.source, obs, out);
   out.seconds_volume = timer.lap();
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

@@ -374,8 +374,13 @@ void measure_and_fill(Run& run) {
     VolumeMeshResult v;
     v.options = *options.volume_mesh;
     v.mesh = stage(run.obs, "volume mesh", [&] {
-      return v.options.background ? multi::tetrahedralize_complex(multi::surface_as_complex(r.mesh), v.options, &v.stats)
-                                  : tetrahedralize(r.mesh, v.options, &v.stats);
+      try {
+        return v.options.background
+                   ? multi::tetrahedralize_complex(multi::surface_as_complex(r.mesh), v.options, &v.stats)
+                   : tetrahedralize(r.mesh, v.options, &v.stats);
+      } catch (const InputError& e) {
+        throw volume_mesh_error(run.input, e);
+      }
     });
     r.volume = std::move(v);
   }

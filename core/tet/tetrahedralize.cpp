@@ -51,6 +51,12 @@ TetMesh to_mesh(const tetgenio& out, const SurfaceFaces& input, TetStats& st) {
 
 }  // namespace
 
+InputError volume_mesh_error(const std::string& input, const InputError& e) {
+  const std::string what = e.what();
+  const std::string prefix = "tetmesh: ";
+  return InputError(input + ": volume mesh: " + (what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what));
+}
+
 void validate(const TetOptions& o) {
   auto need = [&](bool ok, const char* name, const char* what) {
     if (!ok) throw InputError(option_ref(name) + " must be " + what);

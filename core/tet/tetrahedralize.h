@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <string>
 
+#include "common/error.h"
 #include "geometry/tet_mesh.h"
 #include "geometry/triangle_mesh.h"
 #include "tet/tet_quality.h"
@@ -80,6 +81,10 @@ struct TetStats {
 // Throws InputError when the surface is not a closed, oriented manifold (with its border
 // edges counted), or TetGen refuses it (the message names the problem it found).
 TetMesh tetrahedralize(const TriangleMesh& surface, const TetOptions& opt, TetStats* stats = nullptr);
+
+// `e`, an error of the volume mesh ("tetmesh: ..."), as one about the run of `input`
+// ("INPUT: volume mesh: ...").
+InputError volume_mesh_error(const std::string& input, const InputError& e);
 
 // Throws InputError naming the option (`volume_size`, `volume_grading`).
 void validate(const TetOptions& o);

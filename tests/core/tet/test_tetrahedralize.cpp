@@ -42,6 +42,12 @@ std::set<std::array<uint32_t, 3>> sorted_triangles(const std::vector<std::array<
   return s;
 }
 
+// A run's volume mesh errors name the run's input.
+TEST(Tetrahedralize, ARunsVolumeMeshErrorNamesItsInput) {
+  EXPECT_STREQ(volume_mesh_error("scan.nii", InputError("tetmesh: TetGen stopped: an input error")).what(),
+               "scan.nii: volume mesh: TetGen stopped: an input error");
+}
+
 TEST(Tetrahedralize, FillsASphereWithTheSurfaceAsItsBoundary) {
   const TriangleMesh sphere = test::icosphere(10, 4);  // 2,562 vertices, 1.2 mm edges
   TetStats st;
