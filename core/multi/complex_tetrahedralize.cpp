@@ -9,6 +9,7 @@
 #include "common/error.h"
 #include "geometry/drop_unused.h"
 #include "multi/complex_figures.h"
+#include "tet/region_quality.h"
 #include "tet/tet_quality.h"
 #include "tet/tetgen_steps.h"
 
@@ -136,12 +137,9 @@ std::vector<LabelTetFigures> label_figures(const TetMesh& m, const TriangleMesh&
   for (const auto& t : complex.triangles)
     for (uint32_t v : t) on_complex[v] = 1;
   for (const auto& e : junction_edges(complex)) on_junction[e[0]] = on_junction[e[1]] = 1;
-  std::map<int32_t, TetMesh> by_label;
   std::map<int32_t, LabelTetFigures> figures;
   for (size_t t = 0; t < m.tets.size(); ++t) {
     const int32_t l = m.region[t];
-    TetMesh& part = by_label[l];
-    part.tets.push_back(m.tets[t]);
     LabelTetFigures& f = figures[l];
     f.label = l;
     const auto& v = m.tets[t];
@@ -154,13 +152,9 @@ std::vector<LabelTetFigures> label_figures(const TetMesh& m, const TriangleMesh&
   }
   std::vector<LabelTetFigures> out;
   double labels_volume = 0;
-  for (auto& [l, part] : by_label) {
-    part.nodes = m.nodes;
-    part.region.assign(part.tets.size(), l);
-    part.regions = 1;
+  for (const auto& [l, quality] : quality_by_region(m)) {
     LabelTetFigures& f = figures[l];
-    f.quality = measure_tet_quality(part);
-    f.quality.nodes = 0;  // the mesh's, shared
+    f.quality = quality;
     if (l > 0) f.boundary_volume = enclosed_volume(label_boundary(complex, l)), labels_volume += f.boundary_volume;
     out.push_back(f);
   }

@@ -30,6 +30,7 @@
 #include "io/volume_io.h"
 #include "phantom/material_phantom.h"
 #include "pipeline/run_pipeline.h"
+#include "tet/region_quality.h"
 #include "tet/tet_quality.h"
 #include "tet/tetgen_steps.h"
 #include "truth_rows.h"
@@ -54,22 +55,9 @@ void row(const char* name, int64_t triangles, const TetQuality& q, double second
              q.min_dihedral_deg, q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean, seconds);
 }
 
-// Each label's tetrahedra's figures.
-std::map<int32_t, TetQuality> by_label(const TetMesh& m) {
-  std::map<int32_t, TetMesh> parts;
-  for (size_t t = 0; t < m.tets.size(); ++t) parts[m.region[t]].tets.push_back(m.tets[t]);
-  std::map<int32_t, TetQuality> out;
-  for (auto& [label, part] : parts) {
-    part.nodes = m.nodes;
-    part.region.assign(part.tets.size(), 1);
-    out[label] = measure_tet_quality(part);
-  }
-  return out;
-}
-
 void label_rows(const char* name, int64_t triangles, const TetMesh& m, double seconds) {
   row(name, triangles, measure_tet_quality(m), seconds);
-  for (const auto& [label, q] : by_label(m))
+  for (const auto& [label, q] : quality_by_region(m))
     fmt::print("  label {:<6} {:>9} {:>9} {:>8} {:>8.2f} {:>7.3f} {:>7.3f} {:>6.3f}\n", label, "", q.tets, "",
                q.min_dihedral_deg, q.pct_min_dihedral_below_10, q.pct_min_dihedral_below_15, q.radius_ratio_mean);
 }

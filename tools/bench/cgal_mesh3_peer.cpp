@@ -66,6 +66,21 @@ CGAL::Image_3 padded_labels(const Volume& v) {
   return CGAL::Image_3(im);
 }
 
+// Mesh_3's refinement as `p` asks: with cells, sliver perturbation and exudation; manifold()
+// where `p.manifold`.
+void refine(C3t3& c3t3, const Domain& domain, const Criteria& criteria, const Mesh3Params& p) {
+  if (p.cell_size > 0 && p.manifold)
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude(),
+                        CGAL::parameters::manifold());
+  else if (p.cell_size > 0)
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude());
+  else if (p.manifold)
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude(),
+                        CGAL::parameters::manifold());
+  else
+    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude());
+}
+
 }  // namespace
 
 Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
@@ -102,16 +117,7 @@ Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p) {
     std::cout.rdbuf(saved);
   }
   r.initial_points = int64_t(c3t3.triangulation().number_of_vertices());
-  if (p.cell_size > 0 && p.manifold)
-    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude(),
-                        CGAL::parameters::manifold());
-  else if (p.cell_size > 0)
-    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::perturb(), CGAL::parameters::exude());
-  else if (p.manifold)
-    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude(),
-                        CGAL::parameters::manifold());
-  else
-    CGAL::refine_mesh_3(c3t3, domain, criteria, CGAL::parameters::no_perturb(), CGAL::parameters::no_exude());
+  refine(c3t3, domain, criteria, p);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // The boundary facets, oriented outward (from the inside cell).
   std::map<Tr::Vertex_handle, uint32_t> index;
