@@ -23,7 +23,7 @@ if [ -d "$pydicom" ]; then
   done
 fi
 export MPUMESH_READER_TIMEOUT=${MPUMESH_READER_TIMEOUT:-5}
-for t in mpu mesh points plist inv3 dicom volume; do
+for t in mpu mesh points plist inv3 dicom volume tet; do
   work="$build/corpus/$t"
   mkdir -p "$work"
   if [ -d "tests/fuzz/regressions/$t" ]; then

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -16,6 +17,7 @@
 #include "io/atomic_file.h"
 #include "io/read_file.h"
 #include "io/tet_text.h"
+#include "io/vtu_arrays.h"
 
 namespace mpumesh {
 
@@ -255,6 +257,7 @@ TetMesh read_msh(const std::string& text, const std::string& path) {
         int dim, tag, type;
         size_t n;
         in >> dim >> tag >> type >> n;
+        if (!in || n > text.size()) bad(path, "an element block cut short or malformed");
         const int nodes = type == 4 ? 4 : type == 2 ? 3 : type == 1 ? 2 : type == 15 ? 1 : -1;
         if (nodes < 0) bad(path, "element type " + std::to_string(type));
         // A volume's region: its label, or its entity; a surface's triangles are a complex's
@@ -291,53 +294,56 @@ TetMesh read_msh(const std::string& text, const std::string& path) {
   return m;
 }
 
-// The text between the opening tag holding `name` and the next "</DataArray>".
-std::string vtu_array(const std::string& text, const std::string& name, const std::string& path) {
-  const size_t at = text.find("Name=\"" + name + "\"");
-  if (at == std::string::npos) bad(path, "no array " + name);
-  const size_t start = text.find('>', at), end = text.find("</DataArray>", at);
-  if (start == std::string::npos || end == std::string::npos) bad(path, "array " + name + " not closed");
-  if (text.rfind("format=\"ascii\"", end) < at) bad(path, "array " + name + " is not ASCII");
-  return text.substr(start + 1, end - start - 1);
-}
-
+// A .vtu file's tetrahedra (cell type 10) and triangles (5), ASCII or binary
+// (io/vtu_arrays.h): one surface's `region` per cell, or a complex's (`label`, or `label_a`
+// and `label_b` on its triangles), as mpumesh and meshio write them.
 TetMesh read_vtu(const std::string& text, const std::string& path) {
+  const VtuArrays arrays(text, path);
   TetMesh m;
-  const size_t pts = text.find("<Points>");
-  if (pts == std::string::npos) bad(path, "no <Points>");
-  const size_t start = text.find('>', text.find("<DataArray", pts)), end = text.find("</DataArray>", pts);
-  std::istringstream p(text.substr(start + 1, end - start - 1));
-  for (Eigen::Vector3d x; p >> x.x() >> x.y() >> x.z();) m.nodes.push_back(x);
-  std::istringstream conn(vtu_array(text, "connectivity", path)), types(vtu_array(text, "types", path));
-  // The regions: `region` (one surface's), or a complex's `label`, with its triangles'
-  // `label_a` and `label_b`.
-  auto array_or_empty = [&](const char* name) {
-    return text.find("Name=\"" + std::string(name) + "\"") != std::string::npos ? vtu_array(text, name, path) : "";
+  const std::vector<double> xyz = arrays.numbers("");
+  if (xyz.size() % 3 != 0) bad(path, "the points' coordinates are not triples");
+  for (size_t i = 0; i + 2 < xyz.size(); i += 3) m.nodes.emplace_back(xyz[i], xyz[i + 1], xyz[i + 2]);
+  const std::vector<double> conn = arrays.numbers("connectivity"), types = arrays.numbers("types");
+  const bool complex = arrays.has("label") || arrays.has("label_a");
+  auto per_cell = [&](const char* name, double otherwise) {
+    std::vector<double> v = arrays.has(name) ? arrays.numbers(name) : std::vector<double>();
+    if (!v.empty() && v.size() != types.size()) bad(path, std::string("array ") + name + " is not one value per cell");
+    if (v.empty()) v.assign(types.size(), otherwise);
+    return v;
   };
-  const bool complex = text.find("Name=\"label\"") != std::string::npos;
-  std::istringstream regions(array_or_empty(complex ? "label" : "region")), label_a(array_or_empty("label_a")),
-      label_b(array_or_empty("label_b"));
-  for (int type; types >> type;) {
-    if (type != 10 && !(complex && type == 5))
-      bad(path, "cell type " + std::to_string(type) + " (10, a tetrahedron, is read; 5, a triangle, in a complex)");
-    int32_t r = 1, a = -1, b = -1;
-    regions >> r;
-    label_a >> a;
-    label_b >> b;
+  const std::vector<double> regions = per_cell(arrays.has("label") ? "label" : "region", 1),
+                            label_a = per_cell("label_a", -1), label_b = per_cell("label_b", -1);
+  // A cell's type, region or label: an integer that fits 32 bits.
+  auto integer = [&](double v, const char* what) -> int32_t {
+    if (!(v >= -2147483648.0 && v <= 2147483647.0) || v != std::floor(v))
+      bad(path, std::string("a cell's ") + what + " is not a 32-bit integer");
+    return int32_t(v);
+  };
+  size_t at = 0;
+  auto node = [&]() -> uint32_t {
+    if (at >= conn.size()) bad(path, "connectivity cut short");
+    const double v = conn[at++];
+    if (!(v >= 0 && v < double(m.nodes.size()))) bad(path, "a cell names a node beyond the points");
+    return uint32_t(v);
+  };
+  for (size_t c = 0; c < types.size(); ++c) {
+    const int type = integer(types[c], "type");
     if (type == 5) {
-      std::array<uint32_t, 3> f;
-      for (auto& v : f) conn >> v;
+      const std::array<uint32_t, 3> f = {node(), node(), node()};
       m.boundary.push_back(f);
-      m.boundary_labels.push_back({a, b});
-      m.boundary_region.push_back(b);
+      if (complex) {
+        m.boundary_labels.push_back({integer(label_a[c], "label_a"), integer(label_b[c], "label_b")});
+        m.boundary_region.push_back(m.boundary_labels.back()[1]);
+      } else {
+        m.boundary_region.push_back(integer(regions[c], "region"));
+      }
       continue;
     }
-    std::array<uint32_t, 4> t;
-    for (auto& v : t) conn >> v;
+    if (type != 10) bad(path, "cell type " + std::to_string(type) + " (10, a tetrahedron, and 5, a triangle, are read)");
+    const std::array<uint32_t, 4> t = {node(), node(), node(), node()};
     m.tets.push_back(t);
-    m.region.push_back(r);
+    m.region.push_back(integer(regions[c], "region"));
   }
-  if (!conn) bad(path, "connectivity cut short");
   return m;
 }
 
@@ -483,7 +489,10 @@ void write_tet_mesh(const TetMesh& m, const std::string& path) {
 
 TetMesh read_tet_mesh(const std::string& path) {
   const TetFormat f = tet_format_from_path(path);
-  const std::string text = read_file(path);
+  return parse_tet_mesh(read_file(path), f, path);
+}
+
+TetMesh parse_tet_mesh(const std::string& text, TetFormat f, const std::string& path) {
   TetMesh m;
   switch (f) {
     case TetFormat::kMsh: m = read_msh(text, path); break;
