@@ -14,8 +14,8 @@ PACKAGES=(
   libinsighttoolkit5-dev zlib1g-dev libdeflate-dev
   # command line, JSON, formatting, threads, neighbour search, images
   libcli11-dev nlohmann-json3-dev libfmt-dev libspdlog-dev libtbb-dev libnanoflann-dev libstb-dev
-  # the Python module and the cohort workflow
-  pybind11-dev python3-dev python3-numpy snakemake
+  # the Python module, its wheel and pip install, and the cohort workflow
+  pybind11-dev python3-dev python3-numpy python3-build python3-venv python3-pip snakemake
   # tests (chromium: the HTML report opened in a real, headless browser; clang and its
   # runtime: the libFuzzer targets; pytest and nibabel: the Python module's tests; meshio:
   # an independent reader of the volume meshes; CalculiX: a finite-element solver on them)

@@ -250,16 +250,7 @@ void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const Com
         f.junction_length_mm, f.min_angle_deg, f.crossing_pairs, r.shells_removed, region,
         open_edges == 0 ? "yes" : "no");
   if (r.volume && !common.json && !common.quiet) std::cout << tet_text(o.volume, r.volume->stats);
-  nlohmann::json j = {{"input", o.input},
-                      {"output", o.output},
-                      {"complex", complex_json(r)},
-                      {"meshed", r.labels.meshed},
-                      {"version", MPUMESH_VERSION}};
-  j["skipped"] = skipped_labels_json(r.labels.skipped);
-  if (r.volume) {
-    j["volume_mesh"] = tet_json(r.volume->options, r.volume->stats);
-    j["volume_mesh"]["output"] = o.volume;
-  }
+  nlohmann::json j = complex_run_json(r, o.input, {o.output, o.volume, nullptr, {}});
   j["stage_seconds"] = stage_seconds_json({}, progress);
   if (!o.report.empty()) write_json_file(j, o.report);
   if (common.json) std::cout << j.dump(2) << '\n';

@@ -298,4 +298,19 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
             {"volume_mesh", r.seconds_volume}}}};
 }
 
+nlohmann::json complex_run_json(const pipeline::ComplexResult& r, const std::string& input,
+                                const RunReportContext& ctx) {
+  nlohmann::json j = {{"input", input},
+                      {"output", ctx.output},
+                      {"complex", complex_json(r)},
+                      {"meshed", r.labels.meshed},
+                      {"version", MPUMESH_VERSION}};
+  j["skipped"] = skipped_labels_json(r.labels.skipped);
+  if (r.volume) {
+    j["volume_mesh"] = tet_json(r.volume->options, r.volume->stats);
+    j["volume_mesh"]["output"] = ctx.volume_output;
+  }
+  return j;
+}
+
 }  // namespace mpumesh::tools

@@ -55,6 +55,11 @@ nlohmann::json label_crossings_json(const std::vector<pipeline::LabelCrossing>& 
 // closedness, per interface its area and triangles' shape, the junction curves, the
 // crossing triangle pairs, and how it was sampled and triangulated.
 nlohmann::json complex_json(const pipeline::ComplexResult& r);
+// The report of a complex's run (`run --labels` without --separate, a mesh's parts): the
+// input and the outputs (ctx.output, ctx.volume_output), the complex, the labels meshed
+// and skipped, the volume mesh; without the stage times, which the caller adds.
+nlohmann::json complex_run_json(const pipeline::ComplexResult& r, const std::string& input,
+                                const RunReportContext& ctx);
 
 // What `mpumesh report --run-report` reads back from a run's JSON report for the HTML
 // page: the summary's parts the page shows (the others stay empty), and the device and

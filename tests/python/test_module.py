@@ -139,7 +139,10 @@ def test_progress_reaches_the_callback_and_the_gil_is_free():
     (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), particle_spacing=-1), "particle_spacing= must be positive"),
     (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), threshold=5000, backend="cpu"), "no voxel lies in the threshold"),
     (lambda: mpumesh.run(np.full((4, 4, 4), np.nan, np.float32), spacing=(1, 1, 1)), "NaN or infinite"),
-    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), labels="all"), "call it once per label"),
+    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), labels="all", separate=True), "mesh a label on its own"),
+    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), volume="out.msh"), "volume: True or False"),
+    (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), volume_background=True), "volume_background: applies to "
+                                                                             "volume=True"),
     (lambda: mpumesh.run(ball(), spacing=(1, 1, 1), label=2), "not a label map"),
     (lambda: mpumesh.remesh(np.zeros((3, 3)), np.array([[0, 1, 2]])), "closed"),
     (lambda: mpumesh.remesh(np.zeros((3, 3)), np.array([[0, 1, 5]])), "out of range"),
