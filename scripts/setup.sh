@@ -20,6 +20,8 @@ PACKAGES=(
   # runtime: the libFuzzer targets; pytest and nibabel: the Python module's tests; meshio:
   # an independent reader of the volume meshes; CalculiX: a finite-element solver on them)
   libgtest-dev chromium clang libclang-rt-14-dev python3-pytest python3-nibabel python3-meshio calculix-ccx
+  # tests: a single-node SLURM cluster that runs the workflow's jobs
+  slurm-wlm munge
   # sample data: the InVesalius head CT, pydicom's small real DICOM files
   invesalius-examples python3-pydicom
 )
