@@ -12,7 +12,10 @@ subcommands=$("$BIN" --help | awk '/^Subcommands:/ {on = 1; next} on && NF {prin
   echo
   echo "Every command of \`mpumesh\`, as its \`--help\` prints it. Common to all: \`-q,--quiet\`"
   echo "prints only errors, \`--json\` a machine-readable summary on standard output; on a"
-  echo "terminal, long work prints each stage with its time. Paths are chosen by extension:"
+  echo "terminal, long work prints each stage with its time, and the long stages of \`run\` and"
+  echo "\`tetmesh\` (particles, triangulation, optimisation, tetrahedra, the loop over labels) a bar"
+  echo "with the time left; off a terminal, \`--progress\` prints a line per tenth of each instead."
+  echo "Paths are chosen by extension:"
   echo "volumes \`.nii\`, \`.nii.gz\`, \`.nrrd\`, \`.nhdr\`, \`.mha\`, \`.mhd\`, \`.inv3\`, \`.dcm\` or a DICOM"
   echo "directory; meshes \`.ply\`, \`.stl\`, \`.obj\`, \`.off\`; points \`.ply\`, \`.xyz\`; surfaces \`.mpu\`."
   echo "A refusal is one line, \`mpumesh: error: FILE: problem\`, with exit code 1, and leaves no"

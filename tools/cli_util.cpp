@@ -20,6 +20,12 @@ void add_common(CLI::App* cmd, CommonOptions& common) {
   cmd->add_flag("--json", common.json, "print a JSON summary on stdout");
 }
 
+void add_progress_flag(CLI::App* cmd, CommonOptions& common) {
+  cmd->add_flag("--progress", common.progress,
+                "off a terminal (a log), print a line each time a long stage passes a tenth; on a terminal a bar "
+                "with the time left shows anyway");
+}
+
 namespace {
 
 void announce(const vk::BackendChoice& choice, const CommonOptions& common, Progress& progress) {

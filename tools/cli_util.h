@@ -19,6 +19,8 @@ struct BackendOptions {
 
 void add_backend_options(CLI::App* cmd, BackendOptions& b);
 void add_common(CLI::App* cmd, CommonOptions& common);
+// --progress, for the commands with long stages (run, tetmesh).
+void add_progress_flag(CLI::App* cmd, CommonOptions& common);
 
 // Makes the backend, timed as the "backend" stage; prints the choice's note unless quiet.
 vk::BackendChoice open_backend(const BackendOptions& b, const CommonOptions& common, Progress& progress);

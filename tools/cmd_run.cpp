@@ -42,6 +42,7 @@ class RunObserver : public pipeline::Observer {
   RunObserver(Progress& progress, bool print_notes) : progress_(progress), print_notes_(print_notes) {}
   void begin(const std::string& stage) override { progress_.begin(stage); }
   void end() override { progress_.end(); }
+  void progress(const std::string& stage, double fraction) override { progress_.fraction(stage, fraction); }
   void note(const std::string& line) override {
     if (print_notes_) std::cout << cli_text(line, "run") << "\n";
   }
@@ -107,7 +108,7 @@ void run_one(const RunCli& o, const pipeline::RunOptions& options, const CommonO
              const TriangleMesh* mesh = nullptr) {
   // The pipeline's stages are shown on `shown`; the command's own (the backend, writing,
   // the report) on `own`, whose times the report adds to the pipeline's.
-  Progress shown(common.quiet || common.json), own(common.quiet || common.json);
+  Progress shown(common.quiet || common.json, common.progress), own(common.quiet || common.json);
   RunObserver observer(shown, !common.json && !common.quiet);
   EarlyBackend early(o.backend);
   vk::BackendChoice choice;
@@ -149,7 +150,8 @@ struct PendingOutputs {
 // keeps its own times); the command's own (reading, the backend) on `progress`.
 struct LabelMapRun {
   LabelMapRun(const RunCli& o, const CommonOptions& common)
-      : common(common), talk(!common.json && !common.quiet), shown(!talk), progress(!talk), observer(shown, talk),
+      : common(common), talk(!common.json && !common.quiet), shown(!talk, common.progress), progress(!talk),
+        observer(shown, talk),
         early(o.backend) {
     progress.begin("read volume");
     vol = read_volume(o.input);
@@ -279,7 +281,7 @@ void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const
 // itself would be.
 void run_mesh(const RunCli& o, const pipeline::RunOptions& base, const CommonOptions& common) {
   const bool talk = !common.json && !common.quiet;
-  Progress shown(!talk), progress(!talk);
+  Progress shown(!talk, common.progress), progress(!talk);
   progress.begin("read mesh");
   const TriangleMesh mesh = read_mesh(o.input);
   const int64_t parts = o.separate || voxel_grid_spacing(mesh) ? 1 : count_parts(mesh);
@@ -314,6 +316,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
   add_run_paths(cmd, *o);
   add_run_parameters(cmd, *o);
   add_common(cmd, common);
+  add_progress_flag(cmd, common);
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
       check_run_outputs(*o);

@@ -38,13 +38,14 @@ void add_tetmesh_command(CLI::App& app, CommonOptions& common, std::function<voi
   cmd->add_option("--report", o->report, "write the JSON report here");
   add_tet_options(cmd, o->tet, "");
   add_common(cmd, common);
+  add_progress_flag(cmd, common);
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
       as_command("tetmesh", [&] { validate(o->tet); });
       tet_format_from_path(o->output);
       check_writable(o->output);
       if (!o->report.empty()) check_writable(o->report);
-      Progress progress(common.quiet || common.json);
+      Progress progress(common.quiet || common.json, common.progress);
       progress.begin("read mesh");
       const TriangleMesh surface = read_mesh(o->input);
       progress.end();
@@ -54,9 +55,11 @@ void add_tetmesh_command(CLI::App& app, CommonOptions& common, std::function<voi
       try {
         // A complex (faces tagged label_a, label_b), or a surface with its background, as a
         // complex; else one surface.
-        if (!surface.face_labels.empty()) m = multi::tetrahedralize_complex(surface, o->tet, &st);
-        else if (o->tet.background) m = multi::tetrahedralize_complex(multi::surface_as_complex(surface), o->tet, &st);
-        else m = tetrahedralize(surface, o->tet, &st);
+        const ProgressFn told = progress.fraction_of("tetrahedralize");
+        if (!surface.face_labels.empty()) m = multi::tetrahedralize_complex(surface, o->tet, &st, told);
+        else if (o->tet.background)
+          m = multi::tetrahedralize_complex(multi::surface_as_complex(surface), o->tet, &st, told);
+        else m = tetrahedralize(surface, o->tet, &st, told);
       } catch (const InputError& e) {  // name the file
         const std::string what = e.what();
         throw InputError(o->input + what.substr(what.find(':')));

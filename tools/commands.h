@@ -11,6 +11,7 @@ namespace mpumesh::tools {
 struct CommonOptions {
   bool quiet = false;
   bool json = false;
+  bool progress = false;  // --progress: off a terminal, a line per tenth of a long stage
 };
 
 // Each returns the callback that runs the command once CLI11 has parsed the arguments.

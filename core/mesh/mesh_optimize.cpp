@@ -242,9 +242,10 @@ void clear_counts(OptimizeStats& st) {
 // The rounds, with the vertices `frozen` left as they are.
 void optimize_rounds(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
                      const std::vector<double>& spacing, const OptimizeOptions& opt, const FrozenVertices& frozen,
-                     OptimizeStats& st) {
+                     OptimizeStats& st, const ProgressFn& progress) {
   clear_counts(st);
   for (int round = 0; round < opt.rounds; ++round) {
+    tell(progress, double(round) / opt.rounds);
     st.flips += int64_t(flip_pass(mesh, s, backend, opt, frozen).size());
     if (round >= opt.rounds - opt.smooth_flip_rounds)
       st.smooth_flips += smoothing_flip_pass(mesh, s, backend, opt, frozen);
@@ -281,7 +282,8 @@ ShapeFigures shape_figures(const TriangleMesh& m) {
 }
 
 OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const std::vector<double>& spacing, const OptimizeOptions& opt) {
+                            const std::vector<double>& spacing, const OptimizeOptions& opt,
+                            const ProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   OptimizeStats st;
   st.before = shape_figures(mesh);
@@ -292,7 +294,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
   FrozenVertices frozen(mesh.vertices.size());
   for (int attempt = 0;; ++attempt) {
     mesh = input;
-    optimize::optimize_rounds(mesh, s, backend, spacing, opt, frozen, st);
+    optimize::optimize_rounds(mesh, s, backend, spacing, opt, frozen, st, progress);
     const auto pairs = intersecting_triangles(mesh);
     if (pairs.empty()) break;
     st.retries = attempt + 1;
@@ -308,6 +310,7 @@ OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, Comput
   if (st.collapses > 0) drop_unused_points(mesh.vertices, mesh.triangles);
   st.after = shape_figures(mesh);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  tell(progress, 1);
   return st;
 }
 

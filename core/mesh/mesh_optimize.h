@@ -57,6 +57,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/progress_fn.h"
 #include "compute/compute_backend.h"
 #include "geometry/triangle_mesh.h"
 #include "mpu/mpu_surface.h"
@@ -99,8 +100,10 @@ struct OptimizeStats {
 };
 
 // `spacing`: each vertex's target spacing (mm). Throws nothing for a valid closed mesh; a
-// vertex whose projection fails (∇f vanishes) keeps its place.
+// vertex whose projection fails (∇f vanishes) keeps its place. `progress` is told the
+// rounds done over the rounds (again from 0 when the rounds are done again), 1 at the end.
 OptimizeStats optimize_mesh(TriangleMesh& mesh, const mpu::MpuSurface& s, ComputeBackend& backend,
-                            const std::vector<double>& spacing, const OptimizeOptions& opt = {});
+                            const std::vector<double>& spacing, const OptimizeOptions& opt = {},
+                            const ProgressFn& progress = {});
 
 }  // namespace mpumesh

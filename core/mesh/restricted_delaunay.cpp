@@ -238,7 +238,7 @@ using delaunay::Triangulation;
 
 TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
                                  RestrictedDelaunayStats* stats_out, int64_t max_repair_points,
-                                 ComputeBackend* backend) {
+                                 ComputeBackend* backend, const ProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   RestrictedDelaunayStats stats;
   stats.particles = int64_t(points.size());
@@ -248,8 +248,10 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   t.delaunay();
   LapTimer timer(t0);
   stats.seconds_delaunay = timer.lap();
+  tell(progress, 0.5);
   t.make_manifold(timer);
   stats.seconds_repair += timer.lap();
+  tell(progress, 0.8);
   t.remove_spurious();
   TriangleMesh mesh = t.to_mesh();
   stats.seconds_mesh = timer.lap();
@@ -257,6 +259,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   stats.seconds_cleanup = timer.lap();
   stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = stats;
+  tell(progress, 1);
   return mesh;
 }
 

@@ -165,7 +165,8 @@ std::vector<LabelTetFigures> label_figures(const TetMesh& m, const TriangleMesh&
 
 }  // namespace
 
-TetMesh tetrahedralize_complex(const TriangleMesh& input, const TetOptions& opt, TetStats* stats_out) {
+TetMesh tetrahedralize_complex(const TriangleMesh& input, const TetOptions& opt, TetStats* stats_out,
+                               const ProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   // Without the vertices no triangle uses: each would be a node with no spacing of its own.
   TriangleMesh complex;
@@ -183,7 +184,8 @@ TetMesh tetrahedralize_complex(const TriangleMesh& input, const TetOptions& opt,
   st.size = interior_size(mean_edge_lengths(complex), opt.size);
   if (opt.background) add_box(plc, sides, st.size);
   const std::vector<double> spacing = mean_edge_lengths(plc);
-  const std::unique_ptr<tetgenio> out = quality_tetrahedra(plc, spacing, opt, st.size, FlatSide::kFromTetrahedron, st);
+  const std::unique_ptr<tetgenio> out = quality_tetrahedra(plc, spacing, opt, st.size, FlatSide::kFromTetrahedron, st,
+                                                                progress);
   TetMesh m = to_complex_mesh(*out, plc, sides, complex.triangles.size(), opt.background);
   st.perturbed = perturb_slivers(m, uint32_t(plc.vertices.size()));
   TriangleMesh box;
@@ -195,6 +197,7 @@ TetMesh tetrahedralize_complex(const TriangleMesh& input, const TetOptions& opt,
   for (const LabelTetFigures& f : st.labels) st.surface_volume += f.boundary_volume;
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   if (stats_out) *stats_out = st;
+  tell(progress, 1);
   return m;
 }
 

@@ -24,7 +24,8 @@ namespace mpumesh::multi {
 
 // Throws InputError (naming the label) when a label's boundary in the complex is not a
 // closed oriented manifold, or TetGen refuses the complex.
-TetMesh tetrahedralize_complex(const TriangleMesh& complex, const TetOptions& opt, TetStats* stats = nullptr);
+TetMesh tetrahedralize_complex(const TriangleMesh& complex, const TetOptions& opt, TetStats* stats = nullptr,
+                               const ProgressFn& progress = {});
 
 // A closed, outward surface as a complex of one label, 1, against the background (its
 // triangles turned to face from the background into it), for a volume mesh with its

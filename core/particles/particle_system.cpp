@@ -147,6 +147,7 @@ void Sampler::iterate() {
     const auto t_iter = Clock::now();
     backend.particle_iterations(s, st, batch_params(opt.step, st), batch);
     it += batch;
+    tell(progress, double(it) / opt.iterations);
     check_finite(st, it, backend.device());
     stats.seconds_iterate += seconds_since(t_iter);
     const auto t_pop = Clock::now();
@@ -218,12 +219,14 @@ void Sampler::finish() {
 
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
                              const SampleOptions& opt_in, ComputeBackend& backend, SampleStats* stats_out,
-                             const KdTree* candidate_index, const SampleSource& source) {
+                             const KdTree* candidate_index, const SampleSource& source,
+                             const ProgressFn& progress) {
   validate(opt_in);
   SampleStats st_local;
   SampleStats& stats = stats_out ? *stats_out : st_local;
   stats = SampleStats{};
   Sampler sampler(s, candidates, candidate_index, opt_in, source, backend, stats);
+  sampler.progress = progress;
   SampleOptions& opt = sampler.opt;
   sampler.by_default = opt.particles == 0 && opt.spacing == 0;
   if (sampler.by_default) opt.particles = kDefaultParticles;
@@ -236,6 +239,7 @@ ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::
   sampler.seed();
   sampler.iterate();
   sampler.finish();
+  tell(progress, 1);
   return std::move(sampler.st);
 }
 

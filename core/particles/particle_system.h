@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "common/kd_tree.h"
+#include "common/progress_fn.h"
 #include "mpu/mpu_surface.h"
 #include "particles/particle_step_ref.h"
 
@@ -138,10 +139,12 @@ StepParams batch_params(const StepParams& step, const ParticleState& st);
 
 // The iterations run on `backend` (ComputeBackend::particle_iterations), in batches of
 // batch_params. `candidate_index`: a PointIndex's tree over the candidates, when the
-// caller has one (else one is built).
+// caller has one (else one is built). `progress` is told the iterations done over their
+// cap after each batch, and 1 at the end.
 ParticleState sample_surface(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& candidates,
                              const SampleOptions& opt, ComputeBackend& backend, SampleStats* stats = nullptr,
-                             const KdTree* candidate_index = nullptr, const SampleSource& source = {});
+                             const KdTree* candidate_index = nullptr, const SampleSource& source = {},
+                             const ProgressFn& progress = {});
 
 // Candidate seeds when no input points are at hand: the centres of the leaves that held
 // points.

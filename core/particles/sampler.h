@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/kd_tree.h"
+#include "common/progress_fn.h"
 #include "compute/compute_backend.h"
 #include "particles/data_support.h"
 #include "particles/particle_system.h"
@@ -54,6 +55,7 @@ struct Sampler {
   SampleSource source;
   ComputeBackend& backend;
   SampleStats& stats;
+  ProgressFn progress;  // told the iterations done over the cap after each batch
   bool by_default = false;
   Clock::time_point t_seed;
   double extent = 0, gap = 0, r_pool = 0;

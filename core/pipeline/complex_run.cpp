@@ -73,7 +73,7 @@ void fill_complex(const RunOptions& base, const std::string& name, Observer& obs
   VolumeMeshResult v;
   v.options = *base.volume_mesh;
   try {
-    v.mesh = multi::tetrahedralize_complex(out.complex.mesh, v.options, &v.stats);
+    v.mesh = multi::tetrahedralize_complex(out.complex.mesh, v.options, &v.stats, obs.progress_of("volume mesh"));
   } catch (const InputError& e) {
     throw volume_mesh_error(name, e);
   }
@@ -187,6 +187,7 @@ PartRuns run_parts(const std::vector<MeshPart>& parts, const std::string& name, 
                    const BackendOpener& open_backend, Observer& obs, ComplexResult& out) {
   PartRuns p;
   for (size_t k = 0; k < parts.size(); ++k) {
+    obs.progress("parts", double(k) / double(parts.size()));
     const int64_t label = int64_t(k) + 1;
     const std::string part = fmt::format("{} (part {})", name, label);
     try {
@@ -210,6 +211,7 @@ PartRuns run_parts(const std::vector<MeshPart>& parts, const std::string& name, 
     out.regions.push_back({label, 0, parts[k].volume_mm3});
   }
   for (const RunResult& r : p.runs) p.fits.push_back(&r.surface);
+  obs.progress("parts", 1);
   return p;
 }
 

@@ -80,7 +80,9 @@ LabelsResult run_labels(const Volume& vol, const std::vector<int64_t>& labels, b
     out.skipped.push_back({l, it == counts.end() ? 0 : it->second, why});
     obs.note("note: " + seg::label_name(vol.source, l) + ": skipped: " + why);
   };
-  for (const int64_t l : labels) {
+  for (size_t k = 0; k < labels.size(); ++k) {
+    obs.progress("labels", double(k) / double(labels.size()));
+    const int64_t l = labels[k];
     const auto it = counts.find(l);
     const std::string small = seg::too_small_to_mesh(it == counts.end() ? 0 : it->second);
     if (!small.empty()) {
@@ -117,6 +119,7 @@ LabelsResult run_labels(const Volume& vol, const std::vector<int64_t>& labels, b
   std::sort(out.crossings.begin(), out.crossings.end(), [](const LabelCrossing& x, const LabelCrossing& y) {
     return std::pair(x.a, x.b) < std::pair(y.a, y.b);
   });
+  obs.progress("labels", 1);
   return out;
 }
 

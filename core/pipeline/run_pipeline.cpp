@@ -191,13 +191,15 @@ void sample_and_triangulate(Run& run, const PointCloud& cloud, const KdTree& ind
   if (r.fit.duplicates_removed == 0) source.candidate_gap = r.fit.gap12;
   for (;;) {
     run.obs.begin("particles");
-    r.particles = particles::sample_surface(r.surface, cloud.positions, so, *run.backend, &r.sample, &index, source);
+    r.particles = particles::sample_surface(r.surface, cloud.positions, so, *run.backend, &r.sample, &index, source,
+                                            run.obs.progress_of("particles"));
     // The particle kernels' device times, before a later stage's kernels replace them.
     r.particle_kernel_ms = run.backend->kernel_ms();
     run.obs.end();
     run.obs.begin("triangulate");
     r.triangulation = RestrictedDelaunayStats{};
-    r.mesh = restricted_delaunay(r.surface, r.particles.x, &r.triangulation, 0, run.backend);
+    r.mesh = restricted_delaunay(r.surface, r.particles.x, &r.triangulation, 0, run.backend,
+                                 run.obs.progress_of("triangulate"));
     run.obs.end();
     if (!too_sparse(r.triangulation, r.particles.size()) || retries == 0) break;
     --retries;
@@ -244,7 +246,8 @@ void optimize(Run& run) {
   RunResult& r = run.r;
   if (run.opt.optimize.rounds <= 0 || r.particles.size() == 0) return;
   run.obs.begin("optimize");
-  r.optimization = optimize_mesh(r.mesh, r.surface, *run.backend, vertex_spacing(r.mesh, r.particles), run.opt.optimize);
+  r.optimization = optimize_mesh(r.mesh, r.surface, *run.backend, vertex_spacing(r.mesh, r.particles), run.opt.optimize,
+                                 run.obs.progress_of("optimize"));
   run.obs.end();
 }
 
@@ -312,6 +315,7 @@ class TimedObserver : public Observer {
     inner_.end();
   }
   void note(const std::string& line) override { inner_.note(line); }
+  void progress(const std::string& stage, double fraction) override { inner_.progress(stage, fraction); }
   std::vector<std::pair<std::string, double>> take_times() { return std::move(times_); }
 
  private:
@@ -375,9 +379,10 @@ void measure_and_fill(Run& run) {
     v.options = *options.volume_mesh;
     v.mesh = stage(run.obs, "volume mesh", [&] {
       try {
+        const ProgressFn progress = run.obs.progress_of("volume mesh");
         return v.options.background
-                   ? multi::tetrahedralize_complex(multi::surface_as_complex(r.mesh), v.options, &v.stats)
-                   : tetrahedralize(r.mesh, v.options, &v.stats);
+                   ? multi::tetrahedralize_complex(multi::surface_as_complex(r.mesh), v.options, &v.stats, progress)
+                   : tetrahedralize(r.mesh, v.options, &v.stats, progress);
       } catch (const InputError& e) {
         throw volume_mesh_error(run.input, e);
       }

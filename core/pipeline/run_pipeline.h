@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "common/progress_fn.h"
 #include "compute/compute_backend.h"
 #include "mesh/component_filter.h"
 #include "mesh/mesh_optimize.h"
@@ -30,14 +31,22 @@
 
 namespace mpumesh::pipeline {
 
-// What the stages say while they run: a stage's start and end (by name), and lines a
-// user should see. Every method does nothing unless overridden.
+// What the stages say while they run: a stage's start and end (by name), how far a long
+// stage is (its fraction done, 0 to 1: "particles", "triangulate", "optimize",
+// "volume mesh"; and "labels" or "parts", the loop over a label map's labels or a mesh's
+// parts, around the stages of each), and lines a user should see. Every method does
+// nothing unless overridden.
 class Observer {
  public:
   virtual ~Observer() = default;
   virtual void begin(const std::string& /*stage*/) {}
   virtual void end() {}
+  virtual void progress(const std::string& /*stage*/, double /*fraction*/) {}
   virtual void note(const std::string& /*line*/) {}
+  // A ProgressFn (common/progress_fn.h) that tells this observer about `stage`.
+  ProgressFn progress_of(std::string stage) {
+    return [this, stage = std::move(stage)](double f) { progress(stage, f); };
+  }
 };
 
 // What the caller chooses; everything else the run derives (RunResult::derived).

@@ -234,15 +234,18 @@ int64_t perturb_slivers(TetMesh& m, uint32_t surface_nodes) {
 // tetrahedralization from the surface would cost many times more, in locating each new
 // point in it).
 std::unique_ptr<tetgenio> quality_tetrahedra(const TriangleMesh& surface, const std::vector<double>& spacing,
-                                             const TetOptions& opt, double size, FlatSide side, TetStats& st) {
+                                             const TetOptions& opt, double size, FlatSide side, TetStats& st,
+                                             const ProgressFn& progress) {
   tetgenio in, coarse;
   auto out = std::make_unique<tetgenio>();
   to_tetgen(surface, in);
   run_tetgen("pYq2.0Q", in, coarse);
+  tell(progress, 0.2);
   graded_sizes(coarse, surface, spacing, opt, size);
   const std::string refine =
       fmt::format("rYq{}/{}mO{}/7o/{}Q", opt.radius_edge, opt.min_dihedral, opt.optimize_level, opt.max_dihedral);
   run_tetgen(refine, coarse, *out);
+  tell(progress, 0.7);
   const SurfaceFaces faces = surface_faces(surface);
   const std::vector<Eigen::Vector3d> for_flat = points_for_flat_tets(*out, surface, faces, side);
   if (for_flat.empty()) return out;
@@ -254,6 +257,7 @@ std::unique_ptr<tetgenio> quality_tetrahedra(const TriangleMesh& surface, const 
   for (size_t i = 0; i < for_flat.size(); ++i)
     for (int d = 0; d < 3; ++d) add.pointlist[3 * i + size_t(d)] = for_flat[i][d];
   run_tetgen("i" + refine, coarse, *again, &add);
+  tell(progress, 0.9);
   return again;
 }
 

@@ -49,8 +49,11 @@ enum class FlatSide { kSurfaceOutward, kFromTetrahedron };
 // Steps 1-3 on `surface` (its vertices' spacing given): TetGen's tetrahedra of the whole
 // inside of its outermost triangles, every triangle a face of them. Throws InputError
 // when TetGen stops.
+// `progress` is told the steps done: the coarse mesh (0.2), the refined one (0.7), the
+// points for flat tetrahedra (0.9).
 std::unique_ptr<tetgenio> quality_tetrahedra(const TriangleMesh& surface, const std::vector<double>& spacing,
-                                             const TetOptions& opt, double size, FlatSide side, TetStats& st);
+                                             const TetOptions& opt, double size, FlatSide side, TetStats& st,
+                                             const ProgressFn& progress = {});
 
 // TetGen's nodes, and its tetrahedra positively oriented.
 std::vector<std::array<uint32_t, 4>> positive_tets(const tetgenio& out, std::vector<Eigen::Vector3d>& nodes);

@@ -65,7 +65,8 @@ void validate(const TetOptions& o) {
   need(std::isfinite(o.grading) && o.grading > 0 && o.grading <= 10, "volume_grading", "in (0, 10] (mm per mm)");
 }
 
-TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStats* stats_out) {
+TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStats* stats_out,
+                       const ProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   require_closed_manifold(input, "tetmesh", "the surface", "a volume mesh fills a closed surface");
   if (!analyze_topology(input).oriented)
@@ -79,11 +80,13 @@ TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStat
                                  st.surface_volume));
   const std::vector<double> spacing = mean_edge_lengths(input);
   st.size = interior_size(spacing, opt.size);
-  const std::unique_ptr<tetgenio> out = quality_tetrahedra(input, spacing, opt, st.size, FlatSide::kSurfaceOutward, st);
+  const std::unique_ptr<tetgenio> out = quality_tetrahedra(input, spacing, opt, st.size, FlatSide::kSurfaceOutward, st,
+                                                                progress);
   TetMesh m = to_mesh(*out, surface_faces(input), st);
   st.perturbed = perturb_slivers(m, uint32_t(input.vertices.size()));
   finish(m, input.vertices.size(), t0, st);
   if (stats_out) *stats_out = st;
+  tell(progress, 1);
   return m;
 }
 

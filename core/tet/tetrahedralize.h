@@ -32,6 +32,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "common/progress_fn.h"
 #include "geometry/tet_mesh.h"
 #include "geometry/triangle_mesh.h"
 #include "tet/tet_quality.h"
@@ -80,7 +81,8 @@ struct TetStats {
 
 // Throws InputError when the surface is not a closed, oriented manifold (with its border
 // edges counted), or TetGen refuses it (the message names the problem it found).
-TetMesh tetrahedralize(const TriangleMesh& surface, const TetOptions& opt, TetStats* stats = nullptr);
+TetMesh tetrahedralize(const TriangleMesh& surface, const TetOptions& opt, TetStats* stats = nullptr,
+                       const ProgressFn& progress = {});
 
 // `e`, an error of the volume mesh ("tetmesh: ..."), as one about the run of `input`
 // ("INPUT: volume mesh: ...").

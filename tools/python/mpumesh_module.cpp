@@ -13,7 +13,7 @@
 // surface of several parts. Bad input raises ValueError, a stage that failed
 // RuntimeError, with the CLI's messages. The GIL is released while the pipeline runs;
 // `progress(event, text)` is called with ("begin", stage), ("end", stage) and
-// ("note", line).
+// ("note", line), a callback of three arguments with ("progress", stage, fraction) too.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -108,15 +108,23 @@ bool parse_options(RunCli& o, const py::dict& options) {
   return volume;
 }
 
-// Forwards the stages and the notes (spelled as keywords) to the callback.
+// Forwards the stages and the notes (spelled as keywords) to the callback, and a long
+// stage's fraction done to a callback that takes three arguments.
 class PyObserver : public pipeline::Observer {
  public:
-  explicit PyObserver(py::object callback) : callback_(std::move(callback)) {}
+  explicit PyObserver(py::object callback) : callback_(std::move(callback)) {
+    with_fraction_ = !callback_.is_none() && takes_three(callback_);
+  }
   void begin(const std::string& stage) override {
     stage_ = stage;
     call("begin", stage);
   }
   void end() override { call("end", stage_); }
+  void progress(const std::string& stage, double fraction) override {
+    if (!with_fraction_) return;
+    py::gil_scoped_acquire gil;
+    callback_("progress", stage, fraction);
+  }
   void note(const std::string& line) override { call("note", spell_options(line, tools::python_spelling())); }
 
  private:
@@ -125,7 +133,18 @@ class PyObserver : public pipeline::Observer {
     py::gil_scoped_acquire gil;
     callback_(event, text);
   }
+  // Whether f(event, stage, fraction) binds: a callback of two arguments gets no progress
+  // events.
+  static bool takes_three(const py::object& f) {
+    try {
+      py::module_::import("inspect").attr("signature")(f).attr("bind")(py::none(), py::none(), py::none());
+      return true;
+    } catch (const py::error_already_set&) {
+      return false;
+    }
+  }
   py::object callback_;
+  bool with_fraction_ = false;
   std::string stage_;
 };
 
@@ -512,7 +531,10 @@ underscores (particles=, label=, largest=, backend=, threads=, ...), except that
 --spacing is particle_spacing=. labels="all" (or a list) meshes a label map's labels into
 one multi-material complex; volume=True adds its volume mesh (volume_background=True:
 the background's box too). progress(event, text) is called with ("begin", stage),
-("end", stage) and ("note", line); an exception it raises stops the run.
+("end", stage) and ("note", line), and a progress(event, stage, fraction) of three
+arguments also with ("progress", stage, fraction), fraction 0 to 1 of a long stage
+(particles, triangulate, optimize, volume mesh; labels and parts: the loop around them);
+an exception it raises stops the run.
 )") + kResultKeys;
 
 const std::string kRemeshDoc = std::string(R"(Remesh a closed, oriented surface mesh (vertices (n, 3) in mm, faces (m, 3)); a mesh of

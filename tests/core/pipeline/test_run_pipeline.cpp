@@ -3,6 +3,9 @@
 // from what it was asked, a remesh, and its errors.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
+
 #include "common/error.h"
 #include "cpu/cpu_backend.h"
 #include "io/mesh_io.h"
@@ -17,8 +20,13 @@ class Recorder : public pipeline::Observer {
  public:
   std::vector<std::string> stages, notes;
   int open = 0;  // stages still open
+  // Per stage, the fractions told while it was the open stage (others: under "outside").
+  std::map<std::string, std::vector<double>> fractions;
   void begin(const std::string& stage) override { stages.push_back(stage), ++open; }
   void end() override { --open; }
+  void progress(const std::string& stage, double f) override {
+    fractions[open == 1 && stage == stages.back() ? stage : "outside " + stage].push_back(f);
+  }
   void note(const std::string& line) override { notes.push_back(line); }
 };
 
@@ -46,6 +54,16 @@ TEST(Pipeline, RunsItsStagesInOrderAndOpensTheBackendOnce) {
   ASSERT_EQ(r.baselines.size(), 2u);
   EXPECT_EQ(r.baselines[0].first, "marching cubes");
   EXPECT_EQ(r.baselines[1].first, "original MPU");
+  // The long stages tell how far they are, within themselves, from above 0 to 1.
+  std::vector<std::string> told;
+  for (const auto& [stage, f] : rec.fractions) {
+    told.push_back(stage);
+    ASSERT_FALSE(f.empty());
+    EXPECT_EQ(f.back(), 1.0) << stage;
+    for (double x : f) EXPECT_TRUE(x >= 0 && x <= 1) << stage << " " << x;
+  }
+  EXPECT_EQ(told, (std::vector<std::string>{"optimize", "particles", "triangulate"}));
+  EXPECT_TRUE(std::is_sorted(rec.fractions["particles"].begin(), rec.fractions["particles"].end()));
   ASSERT_TRUE(r.quality);
   EXPECT_TRUE(r.quality->topo.closed);
   EXPECT_FALSE(r.input.mesh);
