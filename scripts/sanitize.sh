@@ -22,6 +22,9 @@ export MPUMESH_REQUIRE_VULKAN=${MPUMESH_REQUIRE_VULKAN:-1}
 # the sanitized suite's 4 minutes and run in the Release suite, as do the accuracy runs on
 # the CT-like phantoms (Truth.*) and the runs on the sample CT and its masks. This build
 # reads volumes in-process (core/CMakeLists.txt: its allocator is not fork-safe), so the tests
-# of the readers' isolation from crashes and hangs run in the Release suite only.
-skip='IsolatedRead.ErrorsCrashes|ReadersCrashOrHang|PydicomsCorpus|SampleCt|SampleProject|OnTheSampleCt|RunLargestOne|SampleCtIsTheSame|Browser|RunRemeshes|InterruptedRun|ThinPlate|Ellipsoid|FitsTheTrueSurface/(torus|ellipsoid|sphere_dense)|^Truth\.'
+# of the readers' isolation from crashes and hangs run in the Release suite only. So do
+# the four slowest runs here (45-90 s each under the sanitizers) whose code the smaller
+# sanitized tests run too: the HTML report's spacing figures, the phantom's half level,
+# the run's volume mesh report, and the larger of the two-label complexes.
+skip='IsolatedRead.ErrorsCrashes|ReadersCrashOrHang|PydicomsCorpus|SampleCt|SampleProject|OnTheSampleCt|RunLargestOne|SampleCtIsTheSame|Browser|RunRemeshes|InterruptedRun|ThinPlate|Ellipsoid|FitsTheTrueSurface/(torus|ellipsoid|sphere_dense)|^Truth\.|ReportReadsTheRunReportsSpacingFigures|ScanPutsTheHalfLevelOnTheSurface|RunWritesTheVolumeMeshAndReportsIt|OneComplexWhoseTouchingLabelsShareTheirInterfaces'
 ctest --test-dir "$build" -j "$(nproc)" --output-on-failure --timeout 1800 -E "$skip"
