@@ -1,7 +1,9 @@
 // Benchmark: the whole job on the sample CT (bone at 226 HU) against its peers, all
 // measured in the same run on the same volume: the marching-cubes baseline (`mpumesh mc`),
 // the original MPU mesh (`mpumesh polygonize` of our fit) and CGAL Mesh_3 on the gray
-// image with manifold() (tools/bench/cgal_mesh3_peer.h). For each: triangles, time,
+// image with manifold() (tools/bench/cgal_mesh3_peer.h), sequential and in its parallel
+// mode on the same threads as ours; the time ratio that counts is against the faster of
+// the two. For each: triangles, time,
 // topology, triangle quality, smoothness (mean dihedral angle) and fidelity to the
 // marching-cubes surface (mean and 99th-percentile distances both ways, and bones
 // missing: marching-cubes components of more than 100 triangles whose vertices lie
@@ -19,6 +21,7 @@
 // Usage:
 //   mpumesh_bench_run VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] [EPS]
 #include <fmt/format.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <chrono>
@@ -67,31 +70,44 @@ class StageTimes : public pipeline::Observer {
   std::map<std::string, double> seconds_;
 };
 
-// Rounds 2 to `rounds` of ours and Mesh_3 in turn (the first is done); the medians.
+// A Mesh_3 peer: its parameters and each round's time and triangles.
+struct Peer {
+  bench::Mesh3Params params;
+  std::vector<double> seconds;
+  std::vector<size_t> triangles;
+};
+
+// Rounds 2 to `rounds` of ours and the peers in turn (the first is done); the medians,
+// ours first.
 template <class RunOurs>
-std::pair<double, double> rounds_in_turn(int rounds, const TriangleMesh& ours, RunOurs&& run_ours, const Volume& vol,
-                                         const bench::Mesh3Params& m3, std::vector<double>& ours_s,
-                                         std::vector<double>& mesh3_s, size_t first_triangles) {
-  std::vector<size_t> mesh3_triangles = {first_triangles};
+std::vector<double> rounds_in_turn(int rounds, const TriangleMesh& ours, RunOurs&& run_ours, const Volume& vol,
+                                   std::vector<double>& ours_s, std::vector<Peer>& peers) {
   for (int k = 1; k < rounds; ++k) {
     StageTimes unused;
     const pipeline::RunResult again = run_ours(unused, ours_s[size_t(k)]);
     if (again.mesh.triangles != ours.triangles) std::printf("warning: round %d made another mesh of ours\n", k + 1);
-    const bench::Mesh3Result cg_again = bench::cgal_mesh3(vol, m3);
-    mesh3_s[size_t(k)] = cg_again.seconds;
-    mesh3_triangles.push_back(cg_again.mesh.triangles.size());
+    for (Peer& p : peers) {
+      const bench::Mesh3Result cg_again = bench::cgal_mesh3(vol, p.params);
+      p.seconds.push_back(cg_again.seconds);
+      p.triangles.push_back(cg_again.mesh.triangles.size());
+    }
   }
-  const double t_ours = median(ours_s), t_mesh3 = median(mesh3_s);
+  std::vector<double> medians = {median(ours_s)};
+  for (const Peer& p : peers) medians.push_back(median(p.seconds));
   if (rounds > 1) {
     // (Mesh_3's initial points are random: its triangles differ a little between rounds.)
-    std::printf("%d rounds, in turn (Mesh_3's triangles in brackets):\n", rounds);
-    for (int k = 0; k < rounds; ++k)
-      std::printf("  ours %.2f s, Mesh_3 %.2f s [%zu]: %.2f\n", ours_s[size_t(k)], mesh3_s[size_t(k)],
-                  mesh3_triangles[size_t(k)], ours_s[size_t(k)] / mesh3_s[size_t(k)]);
-    std::printf("medians: ours %.2f s, CGAL Mesh_3 %.2f s (the table's times; its figures are the first round's)\n",
-                t_ours, t_mesh3);
+    std::printf("%d rounds, in turn (Mesh_3's triangles in brackets; the ratio against the faster Mesh_3):\n", rounds);
+    for (int k = 0; k < rounds; ++k) {
+      const size_t i = size_t(k);
+      std::printf("  ours %.2f s, Mesh_3 sequential %.2f s [%zu], parallel %.2f s [%zu]: %.2f\n", ours_s[i],
+                  peers[0].seconds[i], peers[0].triangles[i], peers[1].seconds[i], peers[1].triangles[i],
+                  ours_s[i] / std::min(peers[0].seconds[i], peers[1].seconds[i]));
+    }
+    std::printf("medians: ours %.2f s, CGAL Mesh_3 sequential %.2f s, parallel %.2f s (the table's times; its figures "
+                "are the first round's)\n",
+                medians[0], medians[1], medians[2]);
   }
-  return {t_ours, t_mesh3};
+  return medians;
 }
 
 }  // namespace
@@ -145,7 +161,7 @@ int main(int argc, char** argv) {
     seconds = sec_since(t_all);
     return r;
   };
-  std::vector<double> ours_s(static_cast<size_t>(rounds)), mesh3_s(static_cast<size_t>(rounds));
+  std::vector<double> ours_s(static_cast<size_t>(rounds));
   const pipeline::RunResult run = run_ours(times, ours_s[0]);
   const double t_ours_first = ours_s[0];
   const TriangleMesh& ours = run.mesh;
@@ -163,24 +179,40 @@ int main(int argc, char** argv) {
   const TriangleMesh poly = mpu::polygonize(surf, 0, cpu);
   const double t_poly = sec_since(t);
 
-  const bench::Mesh3Result cg = bench::cgal_mesh3(vol, m3);
-  std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g, %lld initial points, %.2f s\n",
-              m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg.initial_points, cg.seconds);
-  mesh3_s[0] = cg.seconds;
-  const auto [t_ours, t_mesh3] = rounds_in_turn(rounds, ours, run_ours, vol, m3, ours_s, mesh3_s,
-                                                cg.mesh.triangles.size());
+  // Mesh_3 sequential, then in its parallel mode on TBB's threads (as many as ours).
+  std::vector<Peer> peers(2, Peer{m3, {}, {}});
+  peers[1].params.parallel = true;
+  std::vector<bench::Mesh3Result> cg;
+  for (Peer& p : peers) {
+    cg.push_back(bench::cgal_mesh3(vol, p.params));
+    p.seconds.push_back(cg.back().seconds);
+    p.triangles.push_back(cg.back().mesh.triangles.size());
+  }
+  const int threads = tbb::this_task_arena::max_concurrency();
+  std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g; sequential: %lld initial points, %.2f s; "
+              "parallel (%d threads): %lld initial points, %.2f s\n",
+              m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg[0].initial_points, cg[0].seconds, threads,
+              (long long)cg[1].initial_points, cg[1].seconds);
+  const std::vector<double> med = rounds_in_turn(rounds, ours, run_ours, vol, ours_s, peers);
+  const double t_ours = med[0], t_faster = std::min(med[1], med[2]);
 
-  std::vector<bench::Row> rows(4);
+  std::vector<bench::Row> rows(5);
   rows[0] = {"ours (" + choice.backend->kind() + ")", &ours, t_ours};
-  rows[1] = {"CGAL Mesh_3", &cg.mesh, t_mesh3};
-  rows[2] = {"original MPU", &poly, t_poly + t_seg + t_points + t_fit};
-  rows[3] = {"marching cubes", &mc_mesh, t_mc};
-  for (size_t i = 0; i < rows.size(); ++i) bench::measure(rows[i], mc_mesh, i < 2);
+  rows[1] = {"CGAL Mesh_3 (sequential)", &cg[0].mesh, med[1]};
+  rows[2] = {fmt::format("CGAL Mesh_3 (parallel, {} threads)", threads), &cg[1].mesh, med[2]};
+  rows[3] = {"original MPU", &poly, t_poly + t_seg + t_points + t_fit};
+  rows[4] = {"marching cubes", &mc_mesh, t_mc};
+  for (size_t i = 0; i < rows.size(); ++i) bench::measure(rows[i], mc_mesh, i < 3);
 
   bench::print_rows(rows);
-  std::printf("\ntime ours / CGAL Mesh_3: %.2f; triangles ours / CGAL: %.2f\n", t_ours / t_mesh3,
-              double(ours.triangles.size()) / double(std::max<size_t>(cg.mesh.triangles.size(), 1)));
+  std::printf("\nours runs on %d threads\n", threads);
+  std::printf("time ours / CGAL Mesh_3 sequential: %.2f; / parallel: %.2f; / the faster (%s): %.2f\n",
+              t_ours / med[1], t_ours / med[2], med[2] < med[1] ? "parallel" : "sequential", t_ours / t_faster);
+  std::printf("triangles ours / CGAL sequential: %.2f, / parallel: %.2f\n",
+              double(ours.triangles.size()) / double(std::max<size_t>(cg[0].mesh.triangles.size(), 1)),
+              double(ours.triangles.size()) / double(std::max<size_t>(cg[1].mesh.triangles.size(), 1)));
   // A user's Mesh_3 program reads the volume too (CGAL reads no .inv3 or DICOM series).
-  std::printf("time ours / (the volume's read, %.2f s, + CGAL Mesh_3): %.2f\n", t_read, t_ours / (t_read + t_mesh3));
+  std::printf("time ours / (the volume's read, %.2f s, + the faster CGAL Mesh_3): %.2f\n", t_read,
+              t_ours / (t_read + t_faster));
   return 0;
 }

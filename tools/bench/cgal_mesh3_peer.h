@@ -3,7 +3,8 @@
 // padded by one voxel of background, started by CGAL's initialisation for images (a
 // seed in every connected component of the thresholded image; with CGAL's random start
 // it misses whole bones); facet_angle 30 and the given facet size and distance;
-// manifold() on. Sequential (CGAL's default build).
+// manifold() on. Sequential (CGAL's default), or in CGAL's parallel mode (Parallel_tag,
+// TBB, on as many threads as ours), which a user with two or more cores would choose.
 #pragma once
 
 #include "geometry/tet_mesh.h"
@@ -26,6 +27,8 @@ struct Mesh3Params {
   bool manifold = true;
   // The least facet distance cgal_mesh3_matching sets (mm).
   double min_facet_distance = 0;
+  // CGAL's parallel mode (Parallel_tag) on TBB's threads.
+  bool parallel = false;
 };
 
 struct Mesh3Result {
@@ -38,6 +41,8 @@ struct Mesh3Result {
 };
 
 Mesh3Result cgal_mesh3(const Volume& v, const Mesh3Params& p);
+// The same in parallel mode, whatever p.parallel says.
+Mesh3Result cgal_mesh3_parallel(const Volume& v, const Mesh3Params& p);
 
 // Mesh_3 with its facet size set so that it makes about as many triangles as `ours`
 // (distance 0.2 × the size, at least min_facet_distance): a first size from our mean edge, one correction, since the
