@@ -16,10 +16,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <utility>
 #include <vector>
 
 #include "common/lap_timer.h"
+#include "common/progress_fn.h"
 #include "compute/compute_backend.h"
 #include "mesh/circumcentre.h"
 #include "mesh/restricted_delaunay.h"
@@ -100,7 +102,9 @@ class Triangulation {
   // The Delaunay triangulation of the particles (in parallel, repeatably).
   void delaunay();
   // The manifold repair and the lost sheets: after it, `facets` are the restricted facets.
-  void make_manifold(LapTimer& timer);
+  // `progress` is told 0.5 + 0.3 x the share of the first round's non-manifold elements
+  // and wide facets repaired, each round.
+  void make_manifold(LapTimer& timer, const ProgressFn& progress = {});
   // Components that no particle holds, or mostly off the sample (see sampled_components).
   void remove_spurious();
   // The facets as an oriented mesh: canonical order, used points then repair points.
@@ -125,8 +129,9 @@ class Triangulation {
   // A point left out is found again in the next round if it is still needed.)
   static constexpr double kRepairMerge = 0.05;
   void insert_repair(std::vector<std::pair<Eigen::Vector3d, double>> add, Cell hint);
-  // One round of the manifold repair; true when nothing is left to repair.
-  bool repair_round(int round, LapTimer& timer);
+  // One round of the manifold repair; true when nothing is left to repair. `told` hears
+  // how many elements (non-manifold groups and wide facets) the round found to repair.
+  bool repair_round(int round, LapTimer& timer, const std::function<void(size_t)>& told);
   // Points on sheets no facet reaches (mesh/lost_sheets.cpp); false when there are none.
   bool add_sheet_points();
 

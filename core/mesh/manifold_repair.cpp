@@ -145,7 +145,7 @@ std::vector<std::pair<uint32_t, double>> oversized_facets(const std::vector<RFac
 
 }  // namespace
 
-bool Triangulation::repair_round(int round, LapTimer& timer) {
+bool Triangulation::repair_round(int round, LapTimer& timer, const std::function<void(size_t)>& told) {
   touched.assign(points.size() + repair.size(), 0);
   stats.seconds_repair += timer.lap();
   evaluate_new_cells(s, dt, touched, backend, round == 0 ? nullptr : &inserted);
@@ -153,6 +153,7 @@ bool Triangulation::repair_round(int round, LapTimer& timer) {
   facets = round == 0 ? restricted_facets(dt) : restricted_facets_near(dt, touched);
   const std::vector<std::vector<uint32_t>> groups = non_manifold_groups(facets, touched);
   const std::vector<std::pair<uint32_t, double>> wide = oversized_facets(facets, touched, touched.size());
+  told(groups.size() + wide.size());
   if (groups.empty() && wide.empty()) return true;
   if (repair.size() >= max_repair || round >= 100) {
     const RFacet& at = facets[groups.empty() ? wide[0].first : groups[0][0]];
@@ -227,10 +228,15 @@ bool Triangulation::repair_round(int round, LapTimer& timer) {
 // facet (the one whose surface Delaunay ball, centred on that crossing, is widest)
 // crosses f = 0; the cells that the new points replace are evaluated, and the facets
 // found again.
-void Triangulation::make_manifold(LapTimer& timer) {
+void Triangulation::make_manifold(LapTimer& timer, const ProgressFn& progress) {
   int round = 0;
+  size_t first = 0;  // the first round's elements to repair
+  const auto told = [&](size_t left) {
+    if (first == 0) first = left;
+    tell(progress, 0.5 + 0.3 * std::max(0.0, 1 - double(left) / double(std::max<size_t>(first, 1))));
+  };
   for (int pass = 0;; ++pass) {  // the manifold repair, then lost sheets (below)
-    while (!repair_round(round, timer)) ++round;
+    while (!repair_round(round, timer, told)) ++round;
     // Lost sheets, twice at most, each time followed by the manifold repair around the
     // new points.
     facets = restricted_facets(dt);

@@ -249,7 +249,7 @@ TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eig
   LapTimer timer(t0);
   stats.seconds_delaunay = timer.lap();
   tell(progress, 0.5);
-  t.make_manifold(timer);
+  t.make_manifold(timer, progress);
   stats.seconds_repair += timer.lap();
   tell(progress, 0.8);
   t.remove_spurious();

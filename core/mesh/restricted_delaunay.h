@@ -58,8 +58,8 @@ struct RestrictedDelaunayStats {
 // NumericalError after max_repair_points (0: the larger of 20,000 and the particle count)
 // or 100 rounds. f at the Voronoi vertices is computed on `backend` (on the CPU when
 // null); the rest runs on the CPU. The same points on the same backend give the same mesh.
-// `progress` is told the phases done: the Delaunay triangulation (0.5), the repair (0.8),
-// the mesh and its clean-up (1).
+// `progress` is told the phases done: the Delaunay triangulation (0.5), the repair (up to
+// 0.8, by the share of the first round's elements repaired), the mesh and its clean-up (1).
 TriangleMesh restricted_delaunay(const mpu::MpuSurface& s, const std::vector<Eigen::Vector3d>& points,
                                  RestrictedDelaunayStats* stats = nullptr, int64_t max_repair_points = 0,
                                  ComputeBackend* backend = nullptr, const ProgressFn& progress = {});
