@@ -40,16 +40,16 @@ section() {
 
 : > "$tmp/body.md"
 section "The whole job on the sample CT against its peers" \
-  "Ours as \`mpumesh run\` runs it, CGAL Mesh_3 with \`manifold()\` at a similar triangle count, the original MPU mesh and marching cubes, all in this run; distances are to and from the marching-cubes surface." \
+  "Ours as \`mpumesh run\` runs it, CGAL Mesh_3 with \`manifold()\` at a similar triangle count, sequential and in its parallel mode (TBB, as many threads as ours), the original MPU mesh and marching cubes, all in this run; distances are to and from the marching-cubes surface. The time ratio that counts is against the faster Mesh_3." \
   "$B/mpumesh_bench_run" "$ct" 226 0 3.4 0.72
 section "The sample CT at 45,000 particles against CGAL Mesh_3" \
-  "The same at the count the speed target names, CGAL Mesh_3 with \`manifold()\` at a similar triangle count; ours and Mesh_3 run in turn three times, and the times are the medians." \
+  "The same at the count the speed target names, CGAL Mesh_3 with \`manifold()\` at a similar triangle count, sequential and parallel; ours and the two Mesh_3 runs in turn three times, and the times are the medians." \
   "$B/mpumesh_bench_run" "$ct" 226 45000 3.4 0.72 auto 3
 section "Remeshing the sample CT's marching-cubes surface" \
   "The marching-cubes surface written to a PLY file and remeshed by \`mpumesh run MC.ply --particles 45000\` and by CGAL's isotropic remeshing (three iterations) at the same triangle count, in this run; distances are to and from the marching-cubes surface." \
   "$B/mpumesh_bench_remesh" "$ct" 226 45000
 section "Volume meshes" \
-  "The sample CT's bone at 45,000 particles filled with tetrahedra (\`run --volume\`) against CGAL Mesh_3's volume mesh of the gray image (cell criteria, sliver perturbation and exudation) at about the same surface triangle count, in this run." \
+  "The sample CT's bone at 45,000 particles filled with tetrahedra (\`run --volume\`) against CGAL Mesh_3's volume mesh of the gray image (cell criteria, sliver perturbation and exudation), sequential and parallel, at about the same surface triangle count, in this run." \
   "$B/mpumesh_bench_volume" "$ct" 226 45000
 section "Accuracy against analytic truth" \
   "CT-like phantoms (partial volume, noise, slices thicker than the pixels, tilted shapes), meshed as a user does, scored from the mesh files against the closed form." \

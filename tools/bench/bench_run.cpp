@@ -198,14 +198,16 @@ int main(int argc, char** argv) {
 
   std::vector<bench::Row> rows(5);
   rows[0] = {"ours (" + choice.backend->kind() + ")", &ours, t_ours};
-  rows[1] = {"CGAL Mesh_3 (sequential)", &cg[0].mesh, med[1]};
-  rows[2] = {fmt::format("CGAL Mesh_3 (parallel, {} threads)", threads), &cg[1].mesh, med[2]};
+  rows[1] = {"Mesh_3 seq.", &cg[0].mesh, med[1]};
+  rows[2] = {fmt::format("Mesh_3 par. ({})", threads), &cg[1].mesh, med[2]};
   rows[3] = {"original MPU", &poly, t_poly + t_seg + t_points + t_fit};
   rows[4] = {"marching cubes", &mc_mesh, t_mc};
   for (size_t i = 0; i < rows.size(); ++i) bench::measure(rows[i], mc_mesh, i < 3);
 
   bench::print_rows(rows);
-  std::printf("\nours runs on %d threads\n", threads);
+  std::printf("\n(Mesh_3 seq.: CGAL Mesh_3 sequential; par. (N): in its parallel mode on N threads; ours runs on %d "
+              "threads)\n",
+              threads);
   std::printf("time ours / CGAL Mesh_3 sequential: %.2f; / parallel: %.2f; / the faster (%s): %.2f\n",
               t_ours / med[1], t_ours / med[2], med[2] < med[1] ? "parallel" : "sequential", t_ours / t_faster);
   std::printf("triangles ours / CGAL sequential: %.2f, / parallel: %.2f\n",
