@@ -179,6 +179,18 @@ def test_a_damaged_binary_file_is_refused_naming_it(ball_run, tmp_path):
     assert out.stderr.count("\n") == 1 and str(path) in out.stderr, out.stderr
 
 
+@pytest.mark.parametrize("bad, words", [
+    ({"vertices": np.zeros((3, 3))}, "no 'faces'"),
+    ({"vertices": np.zeros((3, 3)), "faces": [[0, 1, 2]], "normals": np.zeros((9, 3))}, "one value or row per vertex"),
+    ({"vertices": np.zeros((3, 3)), "faces": [[0, 1, 2]], "face_labels": [1, 2]}, "'face_labels' must be n x 2"),
+    ({"vertices": np.zeros((3, 3)), "faces": [[0, 1, 2]], "tetrahedra": [[0, 1, 2, 3]]}, "no 'points'"),
+])
+def test_to_meshio_refuses_a_malformed_result(bad, words):
+    with pytest.raises(ValueError) as e:
+        mpumesh.to_meshio(bad)
+    assert words in str(e.value), str(e.value)
+
+
 def test_the_docstrings_name_every_key():
     for key in ("vertices", "faces", "normals", "k1", "K", "H", "face_labels", "report", "points", "tetrahedra",
                 "region", "boundary", "boundary_region", "boundary_labels"):

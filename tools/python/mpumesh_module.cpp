@@ -429,8 +429,9 @@ void write_mesh_dict(const std::string& path, const py::dict& mesh) {
 }
 
 // Column c of an n x 2 integer array, and a column of n copies of -1.
-py::array_t<int64_t> column(const py::handle& rows, int c) {
+py::array_t<int64_t> column(const py::handle& rows, int c, const char* what) {
   const auto a = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(rows);
+  if (!a || a.ndim() != 2 || a.shape(1) != 2) throw InputError(std::string("to_meshio: '") + what + "' must be n x 2");
   py::array_t<int64_t> out(a.shape(0));
   for (py::ssize_t i = 0; i < a.shape(0); ++i) out.mutable_at(i) = a.at(i, c);
   return out;
@@ -443,8 +444,10 @@ py::array_t<int64_t> none_column(py::ssize_t n) {
 
 // The surface's per-vertex array over `points`: the surface's vertices are the volume
 // mesh's first nodes, the other nodes (inside) NaN.
-py::array_t<float> over_points(const py::handle& per_vertex, py::ssize_t points) {
+py::array_t<float> over_points(const py::handle& per_vertex, py::ssize_t points, const char* what) {
   const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(per_vertex);
+  if (!a || a.ndim() < 1 || a.ndim() > 2 || a.shape(0) > points)
+    throw InputError(std::string("to_meshio: '") + what + "' must hold one value or row per vertex");
   const py::ssize_t width = a.ndim() == 2 ? a.shape(1) : 1;
   std::vector<py::ssize_t> shape = {points};
   if (a.ndim() == 2) shape.push_back(width);
@@ -468,6 +471,9 @@ py::object to_meshio(const py::dict& r) {
     if (!r.contains(key)) throw InputError(std::string("to_meshio: the result has no '") + key + "'");
   const py::module_ meshio = py::module_::import("meshio");
   const bool tets = r.contains("tetrahedra");
+  if (tets)
+    for (const char* key : {"points", "boundary", "boundary_region", "region"})
+      if (!r.contains(key)) throw InputError(std::string("to_meshio: the result has tetrahedra but no '") + key + "'");
   const py::object points = tets ? py::object(r["points"]) : py::object(r["vertices"]);
   const py::ssize_t n_points = py::len(points);
   py::list cells;
@@ -483,7 +489,7 @@ py::object to_meshio(const py::dict& r) {
       const py::ssize_t n_tets = py::len(r["tetrahedra"]);
       for (int c = 0; c < 2; ++c) {
         py::list side;
-        side.append(column(r["boundary_labels"], c));
+        side.append(column(r["boundary_labels"], c, "boundary_labels"));
         side.append(none_column(n_tets));
         cell_data[c == 0 ? "label_a" : "label_b"] = side;
       }
@@ -493,13 +499,13 @@ py::object to_meshio(const py::dict& r) {
     if (r.contains("face_labels"))
       for (int c = 0; c < 2; ++c) {
         py::list side;
-        side.append(column(r["face_labels"], c));
+        side.append(column(r["face_labels"], c, "face_labels"));
         cell_data[c == 0 ? "label_a" : "label_b"] = side;
       }
   }
   if (!tets || vertices_lead_points(r["vertices"], points))
     for (const char* key : {"normals", "k1", "k2", "K", "H"})
-      if (r.contains(key)) point_data[key] = over_points(r[key], n_points);
+      if (r.contains(key)) point_data[key] = over_points(r[key], n_points, key);
   return meshio.attr("Mesh")(points, cells, py::arg("point_data") = point_data, py::arg("cell_data") = cell_data);
 }
 
@@ -522,7 +528,7 @@ With volume=True, also the volume mesh (`run --volume`):
   region        (t,) int32: each tetrahedron's region (a complex's: its label)
   boundary      (b, 3) int64: the boundary triangles, indices into points
   boundary_region (b,) int32: the region each bounds
-  boundary_labels (b, 2) int32, a complex only: the labels (a, b) each separates)";
+  boundary_labels (b, 2) int64, a complex only: the labels (a, b) each separates)";
 
 const std::string kRunDoc = std::string(R"(Mesh a volume. image: a numpy array in (z, y, x) order (image[k, j, i] is voxel (i, j, k));
 spacing and origin in mm as (x, y, z); direction 3 x 3, its columns the physical
