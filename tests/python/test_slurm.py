@@ -18,9 +18,9 @@ import tempfile
 import time
 from pathlib import Path
 
-import nibabel
-import numpy as np
 import pytest
+
+from scan_phantoms import ball_scan
 
 SOURCE = Path(os.environ["MPUMESH_SOURCE_DIR"])
 BIN = os.environ["MPUMESH_BIN"]
@@ -38,16 +38,6 @@ set-resources:
 set-threads:
   - mesh=1
 """
-
-
-def ball_scan(path, radius, shape=(14, 30, 32), spacing=(0.6, 0.6, 2.0)):
-    """A bright ball (1000 HU, 0 outside, a linear edge one voxel wide) as NIfTI."""
-    z, y, x = np.meshgrid(*(np.arange(n, dtype=float) for n in shape), indexing="ij")
-    p = np.stack([x * spacing[0], y * spacing[1], z * spacing[2]], axis=-1)
-    centre = np.array([shape[2] * spacing[0], shape[1] * spacing[1], shape[0] * spacing[2]]) / 2
-    d = (radius - np.linalg.norm(p - centre, axis=-1)) / min(spacing)
-    data = (500 + 500 * np.clip(d, -1, 1)).astype(np.int16)
-    nibabel.save(nibabel.Nifti1Image(np.transpose(data, (2, 1, 0)), np.diag(list(spacing) + [1.0])), path)
 
 
 def slurm_conf(d, node_line):
