@@ -110,6 +110,43 @@ std::vector<double> rounds_in_turn(int rounds, const TriangleMesh& ours, RunOurs
   return medians;
 }
 
+// Mesh_3's first round: sequential, then in its parallel mode on TBB's threads (as many as
+// ours); `peers` gets both, with this round's time and triangles.
+std::vector<bench::Mesh3Result> first_mesh3_rounds(const Volume& vol, const bench::Mesh3Params& m3,
+                                                   std::vector<Peer>& peers) {
+  peers.assign(2, Peer{m3, {}, {}});
+  peers[1].params.parallel = true;
+  std::vector<bench::Mesh3Result> cg;
+  for (Peer& p : peers) {
+    cg.push_back(bench::cgal_mesh3(vol, p.params));
+    p.seconds.push_back(cg.back().seconds);
+    p.triangles.push_back(cg.back().mesh.triangles.size());
+  }
+  std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g; sequential: %lld initial points, %.2f s; "
+              "parallel (%d threads): %lld initial points, %.2f s\n",
+              m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg[0].initial_points, cg[0].seconds,
+              tbb::this_task_arena::max_concurrency(), (long long)cg[1].initial_points, cg[1].seconds);
+  return cg;
+}
+
+// Ours against each Mesh_3 and the faster, by the medians `med` (ours, sequential,
+// parallel), in time and triangles.
+void print_ratios(const TriangleMesh& ours, const std::vector<bench::Mesh3Result>& cg, const std::vector<double>& med,
+                  int threads, double t_read) {
+  const double t_ours = med[0], t_faster = std::min(med[1], med[2]);
+  std::printf("\n(Mesh_3 seq.: CGAL Mesh_3 sequential; par. (N): in its parallel mode on N threads; ours runs on %d "
+              "threads)\n",
+              threads);
+  std::printf("time ours / CGAL Mesh_3 sequential: %.2f; / parallel: %.2f; / the faster (%s): %.2f\n",
+              t_ours / med[1], t_ours / med[2], med[2] < med[1] ? "parallel" : "sequential", t_ours / t_faster);
+  std::printf("triangles ours / CGAL sequential: %.2f, / parallel: %.2f\n",
+              double(ours.triangles.size()) / double(std::max<size_t>(cg[0].mesh.triangles.size(), 1)),
+              double(ours.triangles.size()) / double(std::max<size_t>(cg[1].mesh.triangles.size(), 1)));
+  // A user's Mesh_3 program reads the volume too (CGAL reads no .inv3 or DICOM series).
+  std::printf("time ours / (the volume's read, %.2f s, + the faster CGAL Mesh_3): %.2f\n", t_read,
+              t_ours / (t_read + t_faster));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -179,22 +216,11 @@ int main(int argc, char** argv) {
   const TriangleMesh poly = mpu::polygonize(surf, 0, cpu);
   const double t_poly = sec_since(t);
 
-  // Mesh_3 sequential, then in its parallel mode on TBB's threads (as many as ours).
-  std::vector<Peer> peers(2, Peer{m3, {}, {}});
-  peers[1].params.parallel = true;
-  std::vector<bench::Mesh3Result> cg;
-  for (Peer& p : peers) {
-    cg.push_back(bench::cgal_mesh3(vol, p.params));
-    p.seconds.push_back(cg.back().seconds);
-    p.triangles.push_back(cg.back().mesh.triangles.size());
-  }
+  std::vector<Peer> peers;
+  const std::vector<bench::Mesh3Result> cg = first_mesh3_rounds(vol, m3, peers);
   const int threads = tbb::this_task_arena::max_concurrency();
-  std::printf("CGAL Mesh_3: facet_angle %g, facet_size %g, facet_distance %g; sequential: %lld initial points, %.2f s; "
-              "parallel (%d threads): %lld initial points, %.2f s\n",
-              m3.facet_angle, m3.facet_size, m3.facet_distance, (long long)cg[0].initial_points, cg[0].seconds, threads,
-              (long long)cg[1].initial_points, cg[1].seconds);
   const std::vector<double> med = rounds_in_turn(rounds, ours, run_ours, vol, ours_s, peers);
-  const double t_ours = med[0], t_faster = std::min(med[1], med[2]);
+  const double t_ours = med[0];
 
   std::vector<bench::Row> rows(5);
   rows[0] = {"ours (" + choice.backend->kind() + ")", &ours, t_ours};
@@ -205,16 +231,6 @@ int main(int argc, char** argv) {
   for (size_t i = 0; i < rows.size(); ++i) bench::measure(rows[i], mc_mesh, i < 3);
 
   bench::print_rows(rows);
-  std::printf("\n(Mesh_3 seq.: CGAL Mesh_3 sequential; par. (N): in its parallel mode on N threads; ours runs on %d "
-              "threads)\n",
-              threads);
-  std::printf("time ours / CGAL Mesh_3 sequential: %.2f; / parallel: %.2f; / the faster (%s): %.2f\n",
-              t_ours / med[1], t_ours / med[2], med[2] < med[1] ? "parallel" : "sequential", t_ours / t_faster);
-  std::printf("triangles ours / CGAL sequential: %.2f, / parallel: %.2f\n",
-              double(ours.triangles.size()) / double(std::max<size_t>(cg[0].mesh.triangles.size(), 1)),
-              double(ours.triangles.size()) / double(std::max<size_t>(cg[1].mesh.triangles.size(), 1)));
-  // A user's Mesh_3 program reads the volume too (CGAL reads no .inv3 or DICOM series).
-  std::printf("time ours / (the volume's read, %.2f s, + the faster CGAL Mesh_3): %.2f\n", t_read,
-              t_ours / (t_read + t_faster));
+  print_ratios(ours, cg, med, threads, t_read);
   return 0;
 }
