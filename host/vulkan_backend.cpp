@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "cpu/cpu_backend.h"
 #include "kernels/chan_vese_vk.h"
+#include "kernels/complex_step_vk.h"
 #include "kernels/marching_cubes_vk.h"
 #include "kernels/mpu_eval_vk.h"
 #include "kernels/particle_step_vk.h"
@@ -108,6 +109,16 @@ void VulkanBackend::particle_iterations(const mpu::MpuSurface& s, particles::Par
                                         const particles::StepParams& p, int iterations) {
   if (!particles_) particles_ = std::make_unique<ParticleKernel>(ctx_);
   particles_->run(resident(s), st, p, iterations, kernel_ms_);
+}
+
+void VulkanBackend::complex_steps(const multi::MaterialField& field, multi::ComplexBatch& batch) {
+  if (!complex_) complex_ = std::make_unique<ComplexStepKernel>(ctx_);
+  if (!field_ || field_id_ != field.id()) {
+    field_.reset();  // the old one's memory first
+    field_ = std::make_unique<MaterialDeviceField>(ctx_, field);
+    field_id_ = field.id();
+  }
+  complex_->run(*field_, batch, kernel_ms_);
 }
 
 BackendChoice make_backend(const std::string& name, int device_index) {

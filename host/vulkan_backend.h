@@ -16,7 +16,9 @@ class McKernel;
 class ChanVeseKernel;
 class MpuEvalKernel;
 class ParticleKernel;
+class ComplexStepKernel;
 struct MpuDeviceSurface;
+struct MaterialDeviceField;
 
 class VulkanBackend : public ComputeBackend {
  public:
@@ -36,6 +38,8 @@ class VulkanBackend : public ComputeBackend {
                                 const std::vector<Eigen::Vector3d>& n, const std::vector<double>& max_dist) override;
   void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p,
                            int iterations) override;
+  // The field stays on the device while the calls name the same one (MaterialField::id).
+  void complex_steps(const multi::MaterialField& field, multi::ComplexBatch& batch) override;
   Context& context() { return ctx_; }
 
  private:
@@ -50,6 +54,9 @@ class VulkanBackend : public ComputeBackend {
   std::unique_ptr<ParticleKernel> particles_;
   std::unique_ptr<MpuDeviceSurface> resident_;
   uint64_t resident_id_ = 0;
+  std::unique_ptr<ComplexStepKernel> complex_;
+  std::unique_ptr<MaterialDeviceField> field_;
+  uint64_t field_id_ = 0;
 };
 
 struct BackendChoice {

@@ -28,6 +28,10 @@ namespace particles {
 struct StepParams;  // particles/particle_step_ref.h
 struct ParticleState;
 }  // namespace particles
+namespace multi {
+class MaterialField;  // multi/material_field.h
+struct ComplexBatch;  // multi/complex_step_ref.h
+}  // namespace multi
 
 class ComputeBackend {
  public:
@@ -64,6 +68,11 @@ class ComputeBackend {
   // core/particles/particle_step_ref.h.
   virtual void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st,
                                    const particles::StepParams& p, int iterations) = 0;
+
+  // One step of a multi-material complex's sampling for every particle of the batch,
+  // written to its `out` and `ok`: multi::complex_steps_ref.
+  virtual void complex_steps(const multi::MaterialField& field, multi::ComplexBatch& batch) = 0;
+
   // Time per kernel (ms) of the last call, measured on the device; may be empty.
   // particle_iterations adds to it instead, so that the batches of one run sum up (the
   // Vulkan backend starts over when it uploads another surface).

@@ -7,6 +7,7 @@
 
 #include "mc/marching_cubes_ref.h"
 #include "mpu/mpu_eval_ref.h"
+#include "multi/complex_step_ref.h"
 #include "particles/particle_step_ref.h"
 #include "segment/chan_vese_ref.h"
 
@@ -73,6 +74,12 @@ void CpuBackend::particle_iterations(const mpu::MpuSurface& s, particles::Partic
   auto t0 = std::chrono::steady_clock::now();
   particles::particle_iterations(s, st, p, iterations);
   kernel_ms_["particles"] += ms_since(t0);
+}
+
+void CpuBackend::complex_steps(const multi::MaterialField& field, multi::ComplexBatch& batch) {
+  auto t0 = std::chrono::steady_clock::now();
+  multi::complex_steps_ref(field, batch);
+  kernel_ms_["complex_step"] += ms_since(t0);
 }
 
 }  // namespace mpumesh

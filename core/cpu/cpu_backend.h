@@ -21,6 +21,7 @@ class CpuBackend : public ComputeBackend {
                                 const std::vector<Eigen::Vector3d>& n, const std::vector<double>& max_dist) override;
   void particle_iterations(const mpu::MpuSurface& s, particles::ParticleState& st, const particles::StepParams& p,
                            int iterations) override;
+  void complex_steps(const multi::MaterialField& field, multi::ComplexBatch& batch) override;
 };
 
 }  // namespace mpumesh

@@ -15,6 +15,8 @@
 //      repulsion in their interface's tangent plane, projected back each step, the
 //      junction points held. Every step updates all particles at once, so the result does
 //      not depend on the threads.
+// The per-particle steps (multi/complex_step_ref.h) run on the backend given: the CPU
+// reference, or shaders/complex_step.comp on a Vulkan device.
 #pragma once
 
 #include <Eigen/Dense>
@@ -22,7 +24,12 @@
 #include <cstdint>
 #include <vector>
 
+#include "multi/complex_step_ref.h"
 #include "multi/material_field.h"
+
+namespace mpumesh {
+class ComputeBackend;
+}
 
 namespace mpumesh::multi {
 
@@ -30,16 +37,6 @@ struct Seed {
   Eigen::Vector3d p;
   double spacing = 0;  // mm
   int source = 0;      // the region whose surface it was sampled on
-};
-
-enum class ParticleKind : uint8_t { kInterface = 2, kJunction = 3, kCorner = 4 };
-
-struct ComplexParticle {
-  Eigen::Vector3d p;
-  double spacing = 0;
-  ParticleKind kind = ParticleKind::kInterface;
-  // The regions it lies between, ascending; unused entries -1.
-  std::array<int, 4> regions{-1, -1, -1, -1};
 };
 
 struct ComplexSampleStats {
@@ -57,6 +54,7 @@ struct ComplexSampleOptions {
 };
 
 std::vector<ComplexParticle> sample_complex(const MaterialField& field, const std::vector<Seed>& seeds,
-                                            const ComplexSampleOptions& options, ComplexSampleStats* stats = nullptr);
+                                            const ComplexSampleOptions& options, ComputeBackend& backend,
+                                            ComplexSampleStats* stats = nullptr);
 
 }  // namespace mpumesh::multi

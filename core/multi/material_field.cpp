@@ -1,6 +1,7 @@
 #include "multi/material_field.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numeric>
 
@@ -8,10 +9,20 @@
 #include "mpu/mpu_eval_ref.h"
 
 namespace mpumesh::multi {
+namespace {
+uint64_t next_field_id() {
+  static std::atomic<uint64_t> count{0};
+  return ++count;
+}
+}  // namespace
 
 MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits,
                              const mpu::MpuSurface* outside, const RegionSupport* support)
-    : labels_(std::move(labels)), fits_(std::move(fits)), outside_(outside), support_(support) {}
+    : labels_(std::move(labels)),
+      fits_(std::move(fits)),
+      outside_(outside),
+      support_(support),
+      id_(next_field_id()) {}
 
 MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits, double contact,
                              PartUnions unions)
@@ -20,7 +31,8 @@ MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu:
       outside_(nullptr),
       support_(nullptr),
       contact_(contact),
-      unions_(std::move(unions)) {}
+      unions_(std::move(unions)),
+      id_(next_field_id()) {}
 
 namespace {
 // A region beyond its support: never the most inside.

@@ -57,6 +57,14 @@ class MaterialField {
                 PartUnions unions = {});
 
   int regions() const { return int(fits_.size()) + 1; }
+  // A number no other field of this process has (a device keeps a field's copy by it).
+  uint64_t id() const { return id_; }
+  // What the field is made of, for a device's copy of it.
+  const std::vector<const mpu::MpuSurface*>& fits() const { return fits_; }
+  const mpu::MpuSurface* outside() const { return outside_; }
+  const RegionSupport* support() const { return support_; }
+  double contact() const { return contact_; }
+  const PartUnions& unions() const { return unions_; }
   // The label of region r (0 for the background).
   int64_t label(int r) const { return r == 0 ? 0 : labels_[size_t(r - 1)]; }
 
@@ -94,6 +102,7 @@ class MaterialField {
   const RegionSupport* support_;
   double contact_ = 0;
   PartUnions unions_;
+  uint64_t id_;
 };
 
 }  // namespace mpumesh::multi

@@ -28,12 +28,21 @@ class RegionSupport {
   bool allows(int r, const Eigen::Vector3d& p) const;
   int regions() const { return int(bits_.size()); }
 
- private:
-  // The voxel nearest p; false beyond the grid.
-  bool voxel_of(const Eigen::Vector3d& p, std::array<int64_t, 3>& idx) const;
+  // The layout, for a device's copy: voxel index = round(to_index() * (p - origin()) /
+  // spacing()); region r's bits cover box(r), x fastest, 64 voxels a word.
   struct Box {
     std::array<int64_t, 3> lo{0, 0, 0}, hi{0, 0, 0};  // voxel indices, hi exclusive
   };
+  const std::array<int64_t, 3>& dims() const { return dims_; }
+  const Eigen::Vector3d& origin() const { return origin_; }
+  const Eigen::Vector3d& spacing() const { return spacing_; }
+  const Eigen::Matrix3d& to_index() const { return to_index_; }
+  const Box& box(int r) const { return boxes_[size_t(r)]; }
+  const std::vector<uint64_t>& bits(int r) const { return bits_[size_t(r)]; }
+
+ private:
+  // The voxel nearest p; false beyond the grid.
+  bool voxel_of(const Eigen::Vector3d& p, std::array<int64_t, 3>& idx) const;
   std::array<int64_t, 3> dims_;
   Eigen::Vector3d origin_, spacing_;
   Eigen::Matrix3d to_index_;

@@ -58,10 +58,10 @@ void add_seeds(const TriangleMesh& m, int source, std::vector<multi::Seed>& out)
 // The sampling and the triangulation of the complex of `field` from `seeds`
 // (`resolve_gaps`: multi/material_delaunay.h).
 void mesh_complex(const multi::MaterialField& field, const std::vector<multi::Seed>& seeds, bool resolve_gaps,
-                  Observer& obs, ComplexResult& out) {
+                  ComputeBackend& backend, Observer& obs, ComplexResult& out) {
   obs.begin("complex");
   const std::vector<multi::ComplexParticle> particles =
-      multi::sample_complex(field, seeds, multi::ComplexSampleOptions{}, &out.sample);
+      multi::sample_complex(field, seeds, multi::ComplexSampleOptions{}, backend, &out.sample);
   out.complex = multi::material_delaunay(field, particles, &out.triangulation, resolve_gaps);
   obs.end();
 }
@@ -241,7 +241,8 @@ ContactGroups contact_units(const PartRuns& p, const std::vector<MeshPart>& part
 // The groups in contact through the complex, over their parts alone; a part in contact
 // with none is bounded by its own fit, which its run has meshed and optimised already,
 // and joins the complex as it is.
-void assemble_parts(const PartRuns& p, const ContactGroups& c, Observer& obs, ComplexResult& out) {
+void assemble_parts(const PartRuns& p, const ContactGroups& c, ComputeBackend& backend, Observer& obs,
+                    ComplexResult& out) {
   std::vector<int64_t> labels;
   std::vector<const mpu::MpuSurface*> fits;
   multi::PartUnions unions;
@@ -258,7 +259,8 @@ void assemble_parts(const PartRuns& p, const ContactGroups& c, Observer& obs, Co
     std::vector<multi::Seed> seeds;
     for (const multi::Seed& s : p.seeds)
       if (region[size_t(s.source)] > 0) seeds.push_back({s.p, s.spacing, region[size_t(s.source)]});
-    mesh_complex(multi::MaterialField(labels, fits, p.contact, unions), seeds, /*resolve_gaps=*/true, obs, out);
+    mesh_complex(multi::MaterialField(labels, fits, p.contact, unions), seeds, /*resolve_gaps=*/true, backend, obs,
+                 out);
   }
   for (size_t k = 0; k < p.labels.size(); ++k)
     if (c.group[k] < 0) add_part_mesh(p.runs[k].mesh, p.labels[k], out.complex.mesh);
@@ -282,7 +284,7 @@ ComplexResult run_parts_complex(const TriangleMesh& mesh, const std::string& nam
   out.seconds_labels = timer.lap();
   const ContactGroups contact = contact_units(runs, parts, name, obs);
   out.seconds_union = timer.lap();
-  assemble_parts(runs, contact, obs, out);
+  assemble_parts(runs, contact, open_backend(), obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
   fill_complex(base, name, obs, out);
@@ -350,7 +352,7 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   }
   const multi::RegionSupport support(vol, sorted);
   const multi::MaterialField field(sorted, fit_of, union_run ? &union_run->surface : nullptr, &support);
-  mesh_complex(field, seeds, /*resolve_gaps=*/false, obs, out);
+  mesh_complex(field, seeds, /*resolve_gaps=*/false, open_backend(), obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
   fill_complex(base, vol.source, obs, out);

@@ -1,7 +1,6 @@
 #include "kernels/mpu_eval_vk.h"
 
 #include <algorithm>
-#include <stdexcept>
 
 #include "mpu_eval.spv.h"
 #include "vk/command.h"
@@ -18,15 +17,6 @@ const std::vector<Binding> kBindings = {
 // per point).
 constexpr size_t kChunk = size_t(1) << 22;
 
-template <class T, class A>
-std::unique_ptr<Buffer> upload(Context& ctx, const std::vector<T, A>& v) {
-  // A zero-sized buffer is not allowed; an empty list still gets one element.
-  const VkDeviceSize bytes = std::max<VkDeviceSize>(v.size() * sizeof(T), sizeof(T));
-  auto b = std::make_unique<Buffer>(ctx, bytes, kStorage);
-  if (!v.empty()) b->upload(v.data(), v.size() * sizeof(T));
-  return b;
-}
-
 // points[first, first + n) relative to the surface's origin, in float.
 std::vector<abi::vec4> relative(const MpuDeviceSurface& s, const std::vector<Eigen::Vector3d>& points, size_t first,
                                 size_t n) {
@@ -37,8 +27,7 @@ std::vector<abi::vec4> relative(const MpuDeviceSurface& s, const std::vector<Eig
 
 }  // namespace
 
-MpuDeviceSurface::MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s) {
-  origin = s.box_min + Eigen::Vector3d::Constant(0.5 * s.box_size);
+std::vector<abi::vec4> pack_leaves(const mpu::MpuSurface& s, const Eigen::Vector3d& origin) {
   std::vector<abi::vec4> packed(s.leaves.size() * MPU_LEAF_VEC4);
   for (size_t i = 0; i < s.leaves.size(); ++i) {
     const mpu::Leaf& l = s.leaves[i];
@@ -54,9 +43,14 @@ MpuDeviceSurface::MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s) {
     coeffs[19] = float(l.coeffs[21]);
     for (int v = 0; v < 5; ++v) p[4 + v] = {coeffs[4 * v], coeffs[4 * v + 1], coeffs[4 * v + 2], coeffs[4 * v + 3]};
   }
-  leaves = upload(ctx, packed);
-  offsets = upload(ctx, s.grid.offsets);
-  leaf_ids = upload(ctx, s.grid.leaf_ids);
+  return packed;
+}
+
+MpuDeviceSurface::MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s) {
+  origin = s.box_min + Eigen::Vector3d::Constant(0.5 * s.box_size);
+  leaves = upload_vector(ctx, pack_leaves(s, origin));
+  offsets = upload_vector(ctx, s.grid.offsets);
+  leaf_ids = upload_vector(ctx, s.grid.leaf_ids);
   const Eigen::Vector3d lo = s.box_min - origin;
   push.box_min_x = float(lo.x());
   push.box_min_y = float(lo.y());

@@ -16,6 +16,10 @@
 
 namespace mpumesh::vk {
 
+// A surface's leaves in the kernels' layout (shared/mpu_abi.h), centres relative to
+// `origin`.
+std::vector<abi::vec4> pack_leaves(const mpu::MpuSurface& s, const Eigen::Vector3d& origin);
+
 struct MpuDeviceSurface {
   MpuDeviceSurface(Context& ctx, const mpu::MpuSurface& s);
   Eigen::Vector3d origin;  // subtracted from every position before it becomes float

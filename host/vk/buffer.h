@@ -6,7 +6,9 @@
 
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "vk/context.h"
@@ -51,5 +53,15 @@ class Buffer {
 inline constexpr VkBufferUsageFlags kStorage =
     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 inline constexpr VkBufferUsageFlags kUniform = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+
+// A host vector as a new storage buffer; an empty one gets one element (Vulkan has no
+// buffer of zero bytes).
+template <class T, class A>
+std::unique_ptr<Buffer> upload_vector(Context& ctx, const std::vector<T, A>& v) {
+  const VkDeviceSize bytes = std::max<VkDeviceSize>(v.size() * sizeof(T), sizeof(T));
+  auto b = std::make_unique<Buffer>(ctx, bytes, kStorage);
+  if (!v.empty()) b->upload(v.data(), v.size() * sizeof(T));
+  return b;
+}
 
 }  // namespace mpumesh::vk

@@ -4,7 +4,8 @@
 // leaves found through the lookup grid, each
 // leaf's polynomial evaluated in its own frame scaled by its radius. Mirrors
 // core/mpu/mpu_eval_ref.cpp (evaluate) and core/mpu/local_poly.h; the includer declares
-// the `leaves`, `offsets` and `leaf_ids` buffers and the push block `pc`.
+// the `leaves`, `offsets` and `leaf_ids` buffers and either the push block `pc` or, with
+// MPU_GRID_FROM_TABLE defined, its own table of surfaces.
 // Sums are taken about the first leaf's value f0, so that Σ w (Q - f0) does not cancel
 // the large terms that Σ w Q would: f = f0 + N / D.
 
@@ -22,24 +23,37 @@ struct MpuSample {
 // diverge.
 const uint MPU_NO_HESSIAN = 0u, MPU_BLENDED_HESSIAN = 1u, MPU_HESSIAN = 2u;
 
-MpuSample mpu_evaluate_opt(vec3 x, uint second) {
+// Where one surface lies in the buffers and its lookup grid: a kernel of one surface
+// takes it from the push block (mpu_evaluate_opt), a kernel of several surfaces
+// (complex_step.comp) from a table, their leaves, offsets and leaf ids concatenated.
+struct MpuGridRef {
+  vec3 box_min;
+  float inv_cell;
+  uvec3 dims;
+  float far_value;
+  uint leaf_base;    // the surface's first leaf (in leaves)
+  uint offset_base;  // its first offset (in offsets); offsets count from its first leaf id
+  uint id_base;      // its first leaf id (in leaf_ids); leaf ids count from its first leaf
+};
+
+MpuSample mpu_evaluate_in(MpuGridRef G, vec3 x, uint second) {
   MpuSample s;
-  s.f = pc.far_value;
+  s.f = G.far_value;
   s.g = vec3(0.0);
   s.H = mat3(0.0);
   s.leaves = 0u;
-  vec3 rel = (x - vec3(pc.box_min_x, pc.box_min_y, pc.box_min_z)) * pc.inv_cell;
+  vec3 rel = (x - G.box_min) * G.inv_cell;
   ivec3 c = ivec3(floor(rel));
-  if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ivec3(pc.nx, pc.ny, pc.nz)))) return s;
-  uint cell = uint(c.x) + pc.nx * (uint(c.y) + pc.ny * uint(c.z));
-  uint first = offsets[cell], last = offsets[cell + 1u];
+  if (any(lessThan(c, ivec3(0))) || any(greaterThanEqual(c, ivec3(G.dims)))) return s;
+  uint cell = G.offset_base + uint(c.x) + G.dims.x * (uint(c.y) + G.dims.y * uint(c.z));
+  uint first = G.id_base + offsets[cell], last = G.id_base + offsets[cell + 1u];
   float f0 = 0.0;
   bool have_f0 = false;
   float N = 0.0, D = 0.0;
   vec3 gN = vec3(0.0), gD = vec3(0.0);
   mat3 HN = mat3(0.0), HD = mat3(0.0);
   for (uint k = first; k < last; ++k) {
-    uint b = MPU_LEAF_VEC4 * leaf_ids[k];
+    uint b = MPU_LEAF_VEC4 * (G.leaf_base + leaf_ids[k]);
     vec4 cr = leaves[b];
     vec3 d = x - cr.xyz;
     float R = cr.w;
@@ -121,7 +135,22 @@ MpuSample mpu_evaluate_opt(vec3 x, uint second) {
   return s;
 }
 
+#ifndef MPU_GRID_FROM_TABLE
+// The surface of the push block `pc` (an MpuPush's first fields).
+MpuSample mpu_evaluate_opt(vec3 x, uint second) {
+  MpuGridRef G;
+  G.box_min = vec3(pc.box_min_x, pc.box_min_y, pc.box_min_z);
+  G.inv_cell = pc.inv_cell;
+  G.dims = uvec3(pc.nx, pc.ny, pc.nz);
+  G.far_value = pc.far_value;
+  G.leaf_base = 0u;
+  G.offset_base = 0u;
+  G.id_base = 0u;
+  return mpu_evaluate_in(G, x, second);
+}
+
 MpuSample mpu_evaluate(vec3 x) { return mpu_evaluate_opt(x, MPU_BLENDED_HESSIAN); }
+#endif
 
 // Principal curvatures after Kindlmann et al. (2003): κ1, κ2, K, mean.
 vec4 mpu_curvature(vec3 g, mat3 H) {

@@ -7,6 +7,7 @@
 namespace mpumesh::abi {
 using uint = uint32_t;
 struct alignas(16) uvec4 { uint32_t x, y, z, w; };
+struct alignas(16) ivec4 { int32_t x, y, z, w; };
 struct alignas(16) vec4 { float x, y, z, w; };
 }  // namespace mpumesh::abi
 #define ABI_BEGIN namespace mpumesh::abi {
