@@ -13,7 +13,9 @@
 
 #include "cli_util.h"
 #include "common/error.h"
+#include "complex_report.h"
 #include "component_cli.h"
+#include "cpu/cpu_backend.h"
 #include "io/atomic_file.h"
 #include "mesh/component_filter.h"
 #include "mesh/voxel_grid.h"
@@ -226,13 +228,39 @@ void write_complex(const RunCli& o, const pipeline::ComplexResult& r, PendingOut
   }
 }
 
+// The complex's HTML report, written with the other outputs (`pending`).
+void write_complex_html(const RunCli& o, const pipeline::ComplexResult& r, const nlohmann::json& j,
+                        const vk::BackendChoice& choice, Progress& progress, PendingOutputs& pending) {
+  progress.begin("report");
+  ComplexReportInputs in;
+  in.name = std::filesystem::path(o.output).filename().string();
+  in.input = o.input;
+  in.result = &r;
+  in.stage_seconds = {{"labels", r.seconds_labels},
+                      {"union", r.seconds_union},
+                      {"complex", r.seconds_complex},
+                      {"volume mesh", r.seconds_volume}};
+  for (const auto& st : progress.stage_seconds()) in.stage_seconds.push_back(st);
+  for (const char* key : {"sample", "triangulation"}) in.parameters[key] = j["complex"][key];
+  CpuBackend cpu;
+  ComputeBackend& backend = choice.backend ? *choice.backend : static_cast<ComputeBackend&>(cpu);
+  in.device = backend.device();
+  write_file_atomically(build_complex_report(in, backend), pending.add(o.html));
+  progress.end();
+}
+
 // A complex's outputs written (with `pending`, the files its runs added), its warnings and
 // summary printed, its report written.
-void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const CommonOptions& common,
-                    PendingOutputs& pending, Progress& progress) {
+void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const vk::BackendChoice& choice,
+                    const CommonOptions& common, PendingOutputs& pending, Progress& progress) {
   progress.begin("write mesh");
   write_complex(o, r, pending);
   progress.end();
+  nlohmann::json j = complex_run_json(r, o.input, {o.output, o.volume, choice.backend ? &choice : nullptr, {}});
+  if (!o.html.empty()) {
+    write_complex_html(o, r, j, choice, progress, pending);
+    j["html"] = o.html;
+  }
   pending.commit();
   const multi::ComplexFigures& f = r.figures;
   const char* region = r.from_mesh ? "part" : "label";
@@ -252,7 +280,6 @@ void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const Com
         f.junction_length_mm, f.min_angle_deg, f.crossing_pairs, r.shells_removed, region,
         open_edges == 0 ? "yes" : "no");
   if (r.volume && !common.json && !common.quiet) std::cout << tet_text(o.volume, r.volume->stats);
-  nlohmann::json j = complex_run_json(r, o.input, {o.output, o.volume, nullptr, {}});
   j["stage_seconds"] = stage_seconds_json({}, progress);
   if (!o.report.empty()) write_json_file(j, o.report);
   if (common.json) std::cout << j.dump(2) << '\n';
@@ -271,7 +298,7 @@ void run_complex_labels(const RunCli& o, const pipeline::RunOptions& base, const
   quiet_base.quality.reset();
   const pipeline::ComplexResult r =
       pipeline::run_complex(lm.vol, lm.todo, o.labels == "all", quiet_base, lm.open, &lm.observer, on_label);
-  finish_complex(o, r, common, pending, progress);
+  finish_complex(o, r, lm.choice, common, pending, progress);
 }
 
 // A surface mesh: its parts remeshed as one complex (pipeline/complex_run.h) when it has
@@ -304,7 +331,7 @@ void run_mesh(const RunCli& o, const pipeline::RunOptions& base, const CommonOpt
   quiet_base.quality.reset();
   const pipeline::ComplexResult r = pipeline::run_parts_complex(mesh, o.input, quiet_base, open, &observer);
   PendingOutputs pending;
-  finish_complex(o, r, common, pending, progress);
+  finish_complex(o, r, choice, common, pending, progress);
 }
 
 }  // namespace

@@ -14,11 +14,18 @@
 #include "render/mesh_render_vk.h"
 #include "render/render_scene.h"
 #include "report/html_report.h"
+#include "report_sections.h"
 
 namespace mpumesh::tools {
-namespace {
 
-const char* const kColours[] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
+const char* const kReportColours[5] = {"#d62728", "#1f77b4", "#2ca02c", "#9467bd", "#ff7f0e"};
+
+std::string render_png(ComputeBackend& backend, const TriangleMesh& m, render::RenderOptions ro) {
+  const render::RenderScene scene = render::build_scene(m, ro);
+  return render::encode_png(vk::render_image(backend, scene));
+}
+
+namespace {
 
 // Normals and curvature: the mesh's own (from the MPU surface) or estimated.
 TriangleMesh with_attributes(const TriangleMesh& m) {
@@ -26,11 +33,6 @@ TriangleMesh with_attributes(const TriangleMesh& m) {
   if (out.normals.size() != out.vertices.size() || out.curvature.size() != out.vertices.size())
     estimate_mesh_curvature(out);
   return out;
-}
-
-std::string render_png(ComputeBackend& backend, const TriangleMesh& m, render::RenderOptions ro) {
-  const render::RenderScene scene = render::build_scene(m, ro);
-  return render::encode_png(vk::render_image(backend, scene));
 }
 
 std::string fmt_num(const nlohmann::json& j) {
@@ -208,8 +210,8 @@ void add_histograms(report::HtmlPage& page, const std::vector<ReportMesh>& all,
   page.heading("Triangle shape");
   std::vector<report::Series> angle, ratio;
   for (size_t i = 0; i < all.size(); ++i) {
-    angle.push_back({all[i].name, kColours[i % 5], shapes[i].min_angle_deg});
-    ratio.push_back({all[i].name, kColours[i % 5], shapes[i].radius_ratio});
+    angle.push_back({all[i].name, kReportColours[i % 5], shapes[i].min_angle_deg});
+    ratio.push_back({all[i].name, kReportColours[i % 5], shapes[i].radius_ratio});
   }
   page.svg(report::svg_histogram("Smallest angle of each triangle", "degrees", angle, 0, 60, 30));
   page.svg(report::svg_histogram("Radius ratio 2 r_in / r_circ", "radius ratio", ratio, 0, 1, 25));
@@ -252,6 +254,8 @@ void add_adaptivity(report::HtmlPage& page, const TriangleMesh& ours, const pipe
            : std::string("."))));
 }
 
+}  // namespace
+
 // The volume mesh's figures (run --volume) and a histogram of its dihedral angles.
 void add_volume_mesh(report::HtmlPage& page, const pipeline::VolumeMeshResult& v) {
   const TetQuality& q = v.stats.quality;
@@ -273,7 +277,7 @@ void add_volume_mesh(report::HtmlPage& page, const pipeline::VolumeMeshResult& v
   double total = 0;
   for (const int64_t c : q.dihedral_histogram) total += double(c);
   const double scale = total > 20000 ? 20000 / total : 1.0;
-  report::Series s{"dihedral angles", kColours[0], {}};
+  report::Series s{"dihedral angles", kReportColours[0], {}};
   for (size_t b = 0; b < q.dihedral_histogram.size(); ++b) {
     const double c = double(q.dihedral_histogram[b]);
     const int64_t n = c > 0 ? std::max<int64_t>(1, std::llround(c * scale)) : 0;
@@ -282,17 +286,18 @@ void add_volume_mesh(report::HtmlPage& page, const pipeline::VolumeMeshResult& v
   page.svg(report::svg_histogram("Dihedral angles of the tetrahedra", "degrees", {s}, 0, 180, 36));
 }
 
-void add_stage_times(report::HtmlPage& page, const ReportRun& run) {
-  if (run.stage_seconds.empty()) return;
+void add_stage_times(report::HtmlPage& page, const std::string& device,
+                     const std::vector<std::pair<std::string, double>>& stage_seconds) {
+  if (stage_seconds.empty()) return;
   std::vector<std::pair<std::string, double>> bars;
-  for (const auto& [name, sec] : run.stage_seconds) {
+  for (const auto& [name, sec] : stage_seconds) {
     auto it = std::find_if(bars.begin(), bars.end(), [&](const auto& b) { return b.first == name; });
     if (it == bars.end()) bars.push_back({name, sec});
     else it->second += sec;
   }
   std::sort(bars.begin(), bars.end());
   page.heading("Time by stage");
-  page.svg(report::svg_bars("Stage times on " + run.device, bars, "s"));
+  page.svg(report::svg_bars("Stage times on " + device, bars, "s"));
 }
 
 void add_parameters(report::HtmlPage& page, const nlohmann::json& params) {
@@ -300,8 +305,6 @@ void add_parameters(report::HtmlPage& page, const nlohmann::json& params) {
   page.heading("Parameters and stage figures");
   page.pre(params.dump(2));
 }
-
-}  // namespace
 
 nlohmann::json report_parameters(const nlohmann::json& run) {
   nlohmann::json params = nlohmann::json::object();
@@ -329,7 +332,7 @@ std::string build_report(const ReportInputs& in, ComputeBackend& backend) {
   add_histograms(page, all, shapes);
   add_adaptivity(page, ours, run, k_source);
   if (run && run->volume) add_volume_mesh(page, *run->volume);
-  add_stage_times(page, in.run);
+  add_stage_times(page, in.run.device, in.run.stage_seconds);
   add_parameters(page, in.run.parameters);
   return page.html();
 }

@@ -26,7 +26,8 @@ void add_run_paths(CLI::App* cmd, RunCli& o) {
   cmd->add_option("--surface", o.surface, "write the fitted implicit surface here (.mpu), e.g. for `polygonize`");
   cmd->add_option("--html", o.html,
                   "write the HTML report here: renders, the comparison with marching cubes and the original MPU, "
-                  "histograms, stage times");
+                  "histograms, stage times; for a complex its labels, interfaces and junction curves, rendered "
+                  "by label");
   cmd->add_option("--volume", o.volume,
                   "also fill the mesh with tetrahedra for finite elements (its triangles their boundary) and write "
                   "them here: .msh (gmsh 4.1), .vtu (VTK), .mesh (medit) or .inp (Abaqus/CalculiX, mesh only); a "
@@ -126,10 +127,9 @@ void check_label_paths(const std::vector<const std::string*>& paths, const std::
 }
 
 void check_complex_outputs(const RunCli& o, const std::string& what) {
-  if (!o.html.empty())
-    throw InputError(fmt::format("--html: the complex of {} has its figures in --report; HTML reports come with "
-                                 "--separate",
-                                 what));
+  if (o.html.find(kLabelField) != std::string::npos)
+    throw InputError(fmt::format("{}: the complex of {} has one HTML report: the path must not hold {}", o.html, what,
+                                 kLabelField));
   if (o.output.find(kLabelField) == std::string::npos && mesh_format_from_path(o.output) != MeshFormat::kPly)
     throw InputError(o.output + ": the complex is written as PLY, whose faces carry label_a and label_b (or "
                                 "put {label} in the path for one closed surface per label)");

@@ -306,6 +306,10 @@ nlohmann::json complex_run_json(const pipeline::ComplexResult& r, const std::str
                       {"meshed", r.labels.meshed},
                       {"version", MPUMESH_VERSION}};
   j["skipped"] = skipped_labels_json(r.labels.skipped);
+  if (ctx.backend) {
+    j["backend"] = backend_json(*ctx.backend);
+    j["kernel_ms"] = ctx.backend->backend->kernel_ms();
+  }
   if (r.volume) {
     j["volume_mesh"] = tet_json(r.volume->options, r.volume->stats);
     j["volume_mesh"]["output"] = ctx.volume_output;

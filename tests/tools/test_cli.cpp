@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "io/mesh_io.h"
@@ -169,6 +170,39 @@ TEST(Cli, ReportOfAnyMeshOpensInABrowser) {
   EXPECT_NE(html.find("coarse.stl"), std::string::npos);
   // 4 renders of the mesh, 2 panels of the region; 2 histograms and the scatter plot.
   expect_report_renders(dir + "/r.html", dir + "/r.png", 6, 3);
+}
+
+// A label map's complex with its volume mesh and HTML report: the page names every label
+// and interface with its figures (those of the JSON report), and opens in a browser with
+// its two renders and four charts (the triangles' two histograms, the tetrahedra's
+// dihedral angles, the stage times).
+TEST(Cli, ComplexReportOpensInABrowser) {
+  CHROMIUM_OR_SKIP();
+  const std::string dir = test::temp_dir("complex-report");
+  write_volume(test::LabelPhantom{}.volume(), dir + "/labels.nii.gz");
+  const Result r = run("run " + dir + "/labels.nii.gz --labels 1,2,3 -o " + dir + "/c.ply --volume " + dir +
+                       "/c.vtu --html " + dir + "/c.html --report " + dir + "/c.json --particles 3000 --backend cpu "
+                       "--quiet");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string html = read_file(dir + "/c.html");
+  const auto j = nlohmann::json::parse(read_file(dir + "/c.json"));
+  EXPECT_EQ(j["html"], dir + "/c.html");
+  EXPECT_EQ(j["backend"]["kind"], "cpu");
+  EXPECT_GT(j["kernel_ms"]["complex_step"].get<double>(), 0);
+  EXPECT_EQ(html.find("http://www.w3.org/2000/svg\""), html.find("http://"));  // nothing else fetched
+  for (const auto& l : j["complex"]["labels"]) {
+    EXPECT_NE(html.find(fmt::format("<td>{}</td><td>{}</td>", l["label"].get<int>(), l["triangles"].get<int>())),
+              std::string::npos)
+        << l.dump();
+    EXPECT_NE(html.find(fmt::format("{:.1f} mm3", l["voxel_volume_mm3"].get<double>())), std::string::npos);
+  }
+  for (const auto& i : j["complex"]["interfaces"])
+    EXPECT_NE(html.find(fmt::format("<td>{} | {}</td><td>{}</td>", i["labels"][0].get<int>(),
+                                    i["labels"][1].get<int>(), i["triangles"].get<int>())),
+              std::string::npos)
+        << i.dump();
+  EXPECT_NE(html.find(fmt::format("{} curves", j["complex"]["junctions"]["curves"].get<int>())), std::string::npos);
+  expect_report_renders(dir + "/c.html", dir + "/c.png", 2, 4);
 }
 
 // A run report given to `mpumesh report` is read only where it has the expected shapes:

@@ -138,8 +138,8 @@ TEST_F(Labels, OptionsThatDoNotFitALabelMapAreRefused) {
                  dir_ + "/one.ply");
   expect_failure("run " + map_ + " --labels all --separate -o " + dir_ + "/x_{label}.ply --html " + dir_ + "/r.html",
                  "r.html: --labels writes one file per label", dir_ + "/x_1.ply");
-  expect_failure("run " + map_ + " --labels all -o " + dir_ + "/c.ply --html " + dir_ + "/r.html",
-                 "--html: the complex of --labels has its figures in --report", dir_ + "/c.ply");
+  expect_failure("run " + map_ + " --labels all -o " + dir_ + "/c.ply --html " + dir_ + "/r_{label}.html",
+                 "r_{label}.html: the complex of --labels has one HTML report", dir_ + "/c.ply");
   expect_failure("run " + map_ + " --labels all -o " + dir_ + "/c.stl", "c.stl: the complex is written as PLY",
                  dir_ + "/c.stl");
   expect_failure("run " + map_ + " --label 3 --separate -o " + dir_ + "/s.ply", "--separate: applies to --labels and to surface meshes",

@@ -117,8 +117,8 @@ TEST_F(Parts, AMarchingCubesSurfaceOfSeveralPartsIsRemeshedAsOneSurface) {
 
 TEST_F(Parts, OutputsAComplexCannotHaveAreRefusedAndNothingWritten) {
   expect_failure("run " + mesh_ + " -o " + dir_ + "/c.stl", "c.stl: the complex is written as PLY", dir_ + "/c.stl");
-  expect_failure("run " + mesh_ + " -o " + dir_ + "/h.ply --html " + dir_ + "/h.html",
-                 "--html: the complex of " + mesh_ + " (5 parts)", dir_ + "/h.ply");
+  expect_failure("run " + mesh_ + " -o " + dir_ + "/h.ply --html " + dir_ + "/h_{label}.html",
+                 "h_{label}.html: the complex of " + mesh_ + " (5 parts) has one HTML report", dir_ + "/h.ply");
   expect_failure("run " + mesh_ + " -o " + dir_ + "/s.ply --surface " + dir_ + "/s_{label}.mpu",
                  "--surface: the parts' fits of the complex of " + mesh_ + " (5 parts) are not written",
                  dir_ + "/s.ply");
