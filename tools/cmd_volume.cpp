@@ -53,13 +53,7 @@ void add_tetmesh_command(CLI::App& app, CommonOptions& common, std::function<voi
       TetStats st;
       TetMesh m;
       try {
-        // A complex (faces tagged label_a, label_b), or a surface with its background, as a
-        // complex; else one surface.
-        const ProgressFn told = progress.fraction_of("tetrahedralize");
-        if (!surface.face_labels.empty()) m = multi::tetrahedralize_complex(surface, o->tet, &st, told);
-        else if (o->tet.background)
-          m = multi::tetrahedralize_complex(multi::surface_as_complex(surface), o->tet, &st, told);
-        else m = tetrahedralize(surface, o->tet, &st, told);
+        m = multi::tetrahedralize_surface(surface, o->tet, &st, progress.fraction_of("tetrahedralize"));
       } catch (const InputError& e) {  // name the file
         const std::string what = e.what();
         throw InputError(o->input + what.substr(what.find(':')));

@@ -209,4 +209,11 @@ TriangleMesh surface_as_complex(const TriangleMesh& surface) {
   return c;
 }
 
+TetMesh tetrahedralize_surface(const TriangleMesh& surface, const TetOptions& opt, TetStats* stats,
+                               const ProgressFn& progress) {
+  if (!surface.face_labels.empty()) return tetrahedralize_complex(surface, opt, stats, progress);
+  if (opt.background) return tetrahedralize_complex(surface_as_complex(surface), opt, stats, progress);
+  return tetrahedralize(surface, opt, stats, progress);
+}
+
 }  // namespace mpumesh::multi

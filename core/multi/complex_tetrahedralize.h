@@ -32,4 +32,10 @@ TetMesh tetrahedralize_complex(const TriangleMesh& complex, const TetOptions& op
 // background.
 TriangleMesh surface_as_complex(const TriangleMesh& surface);
 
+// The volume mesh of any surface the product writes: a complex (face_labels) as a
+// complex, a closed surface with TetOptions::background as a complex of one label in its
+// box, else one closed surface (tetrahedralize).
+TetMesh tetrahedralize_surface(const TriangleMesh& surface, const TetOptions& opt, TetStats* stats = nullptr,
+                               const ProgressFn& progress = {});
+
 }  // namespace mpumesh::multi

@@ -379,10 +379,7 @@ void measure_and_fill(Run& run) {
     v.options = *options.volume_mesh;
     v.mesh = stage(run.obs, "volume mesh", [&] {
       try {
-        const ProgressFn progress = run.obs.progress_of("volume mesh");
-        return v.options.background
-                   ? multi::tetrahedralize_complex(multi::surface_as_complex(r.mesh), v.options, &v.stats, progress)
-                   : tetrahedralize(r.mesh, v.options, &v.stats, progress);
+        return multi::tetrahedralize_surface(r.mesh, v.options, &v.stats, run.obs.progress_of("volume mesh"));
       } catch (const InputError& e) {
         throw volume_mesh_error(run.input, e);
       }
