@@ -35,13 +35,27 @@ void add_complex_summary(report::HtmlPage& page, const ComplexReportInputs& in) 
       f.junction_curves, f.junction_edges, f.junction_length_mm, f.crossing_pairs, r.shells_removed)));
 }
 
+// A label's tetrahedra: how many, their volume, smallest dihedral overall, next to the
+// complex and next to a junction curve (none there: "-"), mean radius ratio.
+std::vector<std::string> tet_cells(const TetStats& st, int64_t label) {
+  const auto angle = [](double deg) { return deg < 180 ? fmt::format("{:.2f}°", deg) : std::string("-"); };
+  for (const LabelTetFigures& t : st.labels)
+    if (t.label == label)
+      return {fmt::format("{}", t.quality.tets), fmt::format("{:.1f} mm3", t.quality.volume_mm3),
+              angle(t.quality.min_dihedral_deg), angle(t.min_dihedral_at_interfaces),
+              angle(t.min_dihedral_at_junctions), fmt::format("{:.3f}", t.quality.radius_ratio_mean)};
+  return std::vector<std::string>(6, "-");
+}
+
 // Per label: its boundary's triangles, enclosed volume against its reference (voxels or
 // the input part), closedness, pieces; with a volume mesh, its tetrahedra.
 void add_label_table(report::HtmlPage& page, const pipeline::ComplexResult& r) {
   const std::string against = r.from_mesh ? "input part's volume" : "voxels' volume";
   std::vector<std::string> header = {r.from_mesh ? "part" : "label", "triangles", "enclosed volume", against,
                                      "difference", "closed oriented manifold", "open edges", "pieces"};
-  if (r.volume) header.insert(header.end(), {"tetrahedra", "tetrahedra's volume", "smallest dihedral"});
+  if (r.volume)
+    header.insert(header.end(), {"tetrahedra", "tetrahedra's volume", "smallest dihedral", "at its interfaces",
+                                 "at junction curves", "mean radius ratio"});
   std::vector<std::vector<std::string>> rows;
   for (const pipeline::ComplexRegion& g : r.regions) {
     for (const multi::RegionFigures& x : r.figures.regions) {
@@ -56,13 +70,8 @@ void add_label_table(report::HtmlPage& page, const pipeline::ComplexResult& r) {
                                       fmt::format("{}", x.defects),
                                       fmt::format("{}", x.components)};
       if (r.volume) {
-        row.insert(row.end(), {"-", "-", "-"});
-        for (const LabelTetFigures& t : r.volume->stats.labels) {
-          if (t.label != g.label) continue;
-          row[row.size() - 3] = fmt::format("{}", t.quality.tets);
-          row[row.size() - 2] = fmt::format("{:.1f} mm3", t.quality.volume_mm3);
-          row[row.size() - 1] = fmt::format("{:.2f}°", t.quality.min_dihedral_deg);
-        }
+        const std::vector<std::string> tets = tet_cells(r.volume->stats, g.label);
+        row.insert(row.end(), tets.begin(), tets.end());
       }
       rows.push_back(row);
     }

@@ -195,6 +195,10 @@ TEST(Cli, ComplexReportOpensInABrowser) {
               std::string::npos)
         << l.dump();
     EXPECT_NE(html.find(fmt::format("{:.1f} mm3", l["voxel_volume_mm3"].get<double>())), std::string::npos);
+    EXPECT_NE(html.find(fmt::format("<td>{}</td><td>{:.1f} mm3</td>", l["tetrahedra"].get<int>(),
+                                    l["tetrahedra_volume_mm3"].get<double>())),
+              std::string::npos)
+        << l.dump();
   }
   for (const auto& i : j["complex"]["interfaces"])
     EXPECT_NE(html.find(fmt::format("<td>{} | {}</td><td>{}</td>", i["labels"][0].get<int>(),
