@@ -74,8 +74,8 @@ class ComputeBackend {
   virtual void complex_steps(const multi::MaterialField& field, multi::ComplexBatch& batch) = 0;
 
   // Time per kernel (ms) of the last call, measured on the device; may be empty.
-  // particle_iterations adds to it instead, so that the batches of one run sum up (the
-  // Vulkan backend starts over when it uploads another surface).
+  // particle_iterations and complex_steps add to it instead, so that the batches of one
+  // run sum up (the Vulkan backend starts over when it uploads another surface).
   const std::map<std::string, double>& kernel_ms() const { return kernel_ms_; }
 
  protected:
