@@ -26,6 +26,29 @@ void tet_text::id_list(Out& o, const std::vector<uint32_t>& ids) {
 }
 
 namespace {
+// x in at most 20 characters, with as many significant digits as fit.
+void inp_number(tet_text::Out& o, double x) {
+  for (int digits = 17; digits > 1; --digits) {
+    const std::string s = fmt::format("{:.{}g}", x, digits);
+    if (s.size() <= 20) {
+      o.s += s;
+      return;
+    }
+  }
+  o.put("{:.1g}", x);
+}
+}  // namespace
+
+void tet_text::inp_node(Out& o, size_t id, const Eigen::Vector3d& p) {
+  o.put("{}", id);
+  for (int d = 0; d < 3; ++d) {
+    o.s += ", ";
+    inp_number(o, p[d]);
+  }
+  o.s += '\n';
+}
+
+namespace {
 
 using tet_text::id_list;
 using tet_text::Out;
@@ -130,7 +153,7 @@ std::string inp(const TetMesh& m) {
         "** *INCLUDEd by an analysis deck. Sets: NALL, EALL, REGION_1 ..., BOUNDARY (the surface's nodes).\n",
         m.nodes.size(), m.tets.size(), m.regions);
   o.put("*NODE, NSET=NALL\n");
-  for (size_t i = 0; i < m.nodes.size(); ++i) o.put("{}, {:.17g}, {:.17g}, {:.17g}\n", i + 1, m.nodes[i].x(), m.nodes[i].y(), m.nodes[i].z());
+  for (size_t i = 0; i < m.nodes.size(); ++i) tet_text::inp_node(o, i + 1, m.nodes[i]);
   o.put("*ELEMENT, TYPE=C3D4, ELSET=EALL\n");
   for (size_t t = 0; t < m.tets.size(); ++t) {
     const auto& v = m.tets[t];

@@ -145,8 +145,7 @@ std::string inp_complex(const TetMesh& m) {
         "** where a, the background, is not meshed; BOX: the background's box).\n",
         m.nodes.size(), m.tets.size(), g.labels.size());
   o.put("*NODE, NSET=NALL\n");
-  for (size_t i = 0; i < m.nodes.size(); ++i)
-    o.put("{}, {:.17g}, {:.17g}, {:.17g}\n", i + 1, m.nodes[i].x(), m.nodes[i].y(), m.nodes[i].z());
+  for (size_t i = 0; i < m.nodes.size(); ++i) tet_text::inp_node(o, i + 1, m.nodes[i]);
   o.put("*ELEMENT, TYPE=C3D4, ELSET=EALL\n");
   for (size_t t = 0; t < m.tets.size(); ++t) {
     const auto& v = m.tets[t];

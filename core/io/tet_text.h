@@ -25,6 +25,11 @@ struct Out {
 // Abaqus lists: at most 16 entries a line, 1-based.
 void id_list(Out& o, const std::vector<uint32_t>& ids);
 
+// An Abaqus/CalculiX *NODE line: the 1-based id and the coordinates, each in at most 20
+// characters (CalculiX reads a number from its field's first 20), with as many
+// significant digits as fit (17, 15 for a number written with an exponent).
+void inp_node(Out& o, size_t id, const Eigen::Vector3d& p);
+
 // medit's text: each vertex's reference the region of a tetrahedron that uses it, each
 // tetrahedron's its region, the boundary triangles' `triangle_ref`; `comments` (lines
 // starting with #) after the header.

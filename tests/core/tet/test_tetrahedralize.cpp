@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <set>
+#include <sstream>
 
 #include "common/error.h"
 #include "io/tet_io.h"
@@ -151,6 +153,38 @@ TEST(TetIo, EveryFormatReadsBackTheSameMesh) {
     EXPECT_EQ(a, b) << ext;
   }
   EXPECT_THROW(write_tet_mesh(m, dir + "/m.stl"), InputError);
+}
+
+// CalculiX reads a number from its field's first 20 characters: a coordinate near zero,
+// which 17 significant digits and an exponent make 23 characters long, is written in 20
+// (15 digits), the others with 17; every one reads back.
+TEST(TetIo, AbaqusNodesFitCalculixFields) {
+  TetMesh m;
+  m.nodes = {{-3.048349639045326, -9.6402416196669782e-06, 17.544060037033461},
+             {1e-300, -123456.78901234567, 0.1},
+             {0, 1, 0},
+             {0, 0, 1}};
+  m.tets = {{0, 1, 2, 3}};
+  m.region = {1};
+  m.regions = 1;
+  const std::string path = test::temp_dir("inp_fields") + "/m.inp";
+  write_tet_mesh(m, path);
+  std::ifstream in(path);
+  bool in_nodes = false;
+  int lines = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("*", 0) == 0) in_nodes = line.rfind("*NODE", 0) == 0;
+    if (!in_nodes || line[0] == '*') continue;
+    ++lines;
+    std::stringstream fields(line);
+    for (std::string f; std::getline(fields, f, ',');) EXPECT_LE(f.size() - (f[0] == ' ' ? 1 : 0), 20u) << line;
+  }
+  EXPECT_EQ(lines, 4);
+  const TetMesh back = read_tet_mesh(path);
+  ASSERT_EQ(back.nodes.size(), 4u);
+  for (size_t i = 0; i < 4; ++i)
+    for (int d = 0; d < 3; ++d)
+      EXPECT_NEAR(back.nodes[i][d], m.nodes[i][d], 1e-14 * std::max(1.0, std::abs(m.nodes[i][d]))) << i << " " << d;
 }
 
 }  // namespace
