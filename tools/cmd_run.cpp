@@ -241,7 +241,7 @@ void write_complex_html(const RunCli& o, const pipeline::ComplexResult& r, const
                       {"complex", r.seconds_complex},
                       {"volume mesh", r.seconds_volume}};
   for (const auto& st : progress.stage_seconds()) in.stage_seconds.push_back(st);
-  for (const char* key : {"sample", "triangulation"}) in.parameters[key] = j["complex"][key];
+  for (const char* key : {"sample", "triangulation", "optimization"}) in.parameters[key] = j["complex"][key];
   CpuBackend cpu;
   ComputeBackend& backend = choice.backend ? *choice.backend : static_cast<ComputeBackend&>(cpu);
   in.device = backend.device();

@@ -22,7 +22,8 @@ struct ComplexReportInputs {
   const pipeline::ComplexResult* result = nullptr;
   std::string device;
   std::vector<std::pair<std::string, double>> stage_seconds;
-  nlohmann::json parameters = nlohmann::json::object();  // the sampling's and triangulation's figures
+  // The sampling's, triangulation's and optimisation's figures.
+  nlohmann::json parameters = nlohmann::json::object();
 };
 
 std::string build_complex_report(const ComplexReportInputs& in, ComputeBackend& backend);

@@ -206,10 +206,11 @@ std::vector<Eigen::Vector3d> repair_points(const MaterialField& field, const Dt&
 // A round's repair points inserted, each but those nearer to a point inserted before it
 // in the round than half their distance to every vertex that was there: several
 // defective edges side by side would each get a point, a fraction of the spacing apart,
-// and the slivers between them stay in the complex (which is not optimised). A point left
-// out comes back in the next round where its edge is still defective. (Waiting for every
-// point nearer than the whole distance leaves a thin gap's defects to later rounds that
-// bridge it: on the joint phantom a facet between the ball and the cup.)
+// and the slivers between them could stay (the complex's optimisation moves a vertex
+// only where its smallest angle rises). A point left out comes back in the next round
+// where its edge is still defective. (Waiting for every point nearer than the whole
+// distance leaves a thin gap's defects to later rounds that bridge it: on the joint
+// phantom a facet between the ball and the cup.)
 void insert_repair_points(const std::vector<Eigen::Vector3d>& add, Dt& dt, std::vector<Eigen::Vector3d>& pts,
                           ComplexDelaunayStats& st) {
   std::vector<double> clearance(add.size());

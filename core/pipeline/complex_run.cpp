@@ -13,6 +13,7 @@
 #include "mesh/component_filter.h"
 #include "mesh/topology.h"
 #include "points/mesh_points.h"
+#include "multi/complex_optimize.h"
 #include "multi/complex_tetrahedralize.h"
 #include "multi/material_field.h"
 
@@ -63,6 +64,9 @@ void mesh_complex(const multi::MaterialField& field, const std::vector<multi::Se
   const std::vector<multi::ComplexParticle> particles =
       multi::sample_complex(field, seeds, multi::ComplexSampleOptions{}, backend, &out.sample);
   out.complex = multi::material_delaunay(field, particles, &out.triangulation, resolve_gaps);
+  obs.end();
+  obs.begin("optimize complex");
+  multi::optimize_complex(field, out.complex.mesh, multi::kComplexOptimizeRounds, &out.optimization);
   obs.end();
 }
 

@@ -3,8 +3,9 @@
 // where labels touch a run of their union (its fit is the background's function), the
 // labelling of space from the fits within each region's voxel support
 // (multi/material_field.h, multi/region_support.h), the junctions and interfaces sampled
-// from the labels' samples (multi/complex_sampling.h) and one restricted Delaunay
-// triangulation of them (multi/material_delaunay.h), measured (multi/complex_figures.h).
+// from the labels' samples (multi/complex_sampling.h), one restricted Delaunay
+// triangulation of them (multi/material_delaunay.h), its triangles made better shaped
+// (multi/complex_optimize.h), measured (multi/complex_figures.h).
 // A surface mesh of several parts is remeshed the same way, a part for a label.
 #pragma once
 
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "multi/complex_figures.h"
+#include "multi/complex_optimize.h"
 #include "multi/complex_sampling.h"
 #include "multi/material_delaunay.h"
 #include "pipeline/label_runs.h"
@@ -36,6 +38,7 @@ struct ComplexResult {
   multi::MaterialComplex complex;
   multi::ComplexSampleStats sample;
   multi::ComplexDelaunayStats triangulation;
+  multi::ComplexOptimizeStats optimization;
   multi::ComplexFigures figures;
   // RunOptions::volume_mesh: one volume mesh of the complex, a region per label
   // (multi/complex_tetrahedralize.h).
