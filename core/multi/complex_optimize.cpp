@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <optional>
+#include <set>
 #include <unordered_set>
 
 #include "geometry/angle.h"
@@ -46,8 +47,8 @@ struct Complex {
   std::vector<Pair> pair;  // regions, ascending
 };
 
-// Step 1: the flips of one pass, each triangle at most once.
-int64_t flip_pass(Complex& c) {
+// Step 1: the flips of one pass, each triangle at most once, none at a frozen vertex.
+int64_t flip_pass(Complex& c, const std::vector<char>& frozen) {
   const EdgeFaces ef(c.T, /*lookup=*/true);
   std::vector<char> touched(c.T.size(), 0);
   std::unordered_set<uint64_t> made;
@@ -69,6 +70,7 @@ int64_t flip_pass(Complex& c) {
     while (m < 3 && !(b[size_t(m)] == v && b[size_t((m + 1) % 3)] == u)) ++m;
     if (m == 3) continue;
     const uint32_t x = b[size_t((m + 2) % 3)];
+    if (frozen[u] || frozen[v] || frozen[w] || frozen[x]) continue;
     if (x == w || ef.contains(edge_key(w, x)) || made.count(edge_key(w, x))) continue;
     if (angle_at(c.V, a, (k + 2) % 3) + angle_at(c.V, b, (m + 2) % 3) <= kPi) continue;  // locally Delaunay
     if (normal_of(c.V, a).dot(normal_of(c.V, b)) < coplanar) continue;
@@ -138,14 +140,14 @@ std::optional<Eigen::Vector3d> candidate(const MaterialField& field, const Compl
   return q;
 }
 
-// Step 2: the moves of one pass.
-int64_t move_pass(const MaterialField& field, Complex& c) {
+// Step 2: the moves of one pass, frozen vertices held.
+int64_t move_pass(const MaterialField& field, Complex& c, const std::vector<char>& frozen) {
   const Fans f = fans_of(c);
   const size_t n = c.V.size();
   std::vector<std::optional<Eigen::Vector3d>> cand(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& rg) {
     for (size_t v = rg.begin(); v != rg.end(); ++v)
-      if (f.pair[v]) cand[v] = candidate(field, c, f, v);
+      if (f.pair[v] && !frozen[v]) cand[v] = candidate(field, c, f, v);
   });
   const double turn = std::cos(kMaxTurnDeg * kPi / 180);
   int64_t moves = 0;
@@ -194,6 +196,21 @@ std::vector<uint32_t> changed_triangles(const TriangleMesh& now, const TriangleM
   return out;
 }
 
+// The intersecting pairs (adjacent ones included) among `changed` that `was` did not have.
+std::vector<std::pair<uint32_t, uint32_t>> new_intersections(const TriangleMesh& now, const TriangleMesh& was,
+                                                             const std::vector<uint32_t>& changed) {
+  const auto before = intersecting_triangles(was, &changed, true);
+  const std::set<std::pair<uint32_t, uint32_t>> old(before.begin(), before.end());
+  std::vector<std::pair<uint32_t, uint32_t>> out;
+  for (const auto& p : intersecting_triangles(now, &changed, true))
+    if (!old.count(p)) out.push_back(p);
+  return out;
+}
+
+// Up to this many tries: a try whose changed triangles intersect others has their
+// vertices frozen and starts again from the complex as it was.
+constexpr int kTries = 3;
+
 }  // namespace
 
 void optimize_complex(const MaterialField& field, TriangleMesh& complex, int rounds, ComplexOptimizeStats* stats) {
@@ -202,20 +219,33 @@ void optimize_complex(const MaterialField& field, TriangleMesh& complex, int rou
   const TriangleMesh original = complex;
   std::map<int64_t, int> region;
   for (int r = 0; r < field.regions(); ++r) region[field.label(r)] = r;
-  Complex c{complex.vertices, complex.triangles, {}};
+  std::vector<Pair> pairs;
   for (const auto& l : complex.face_labels) {
     const int a = region.at(l[0]), b = region.at(l[1]);
-    c.pair.push_back({std::min(a, b), std::max(a, b)});
+    pairs.push_back({std::min(a, b), std::max(a, b)});
   }
-  st.min_angle_before_deg = smallest_angle_deg(c.V, c.T);
-  for (int round = 0; round < rounds; ++round) {
-    st.flips += flip_pass(c);
-    st.moves += move_pass(field, c);
-    ++st.rounds;
+  st.min_angle_before_deg = smallest_angle_deg(complex.vertices, complex.triangles);
+  std::vector<char> frozen(complex.vertices.size(), 0);
+  bool clean = false;
+  for (int attempt = 0; attempt < kTries && !clean; ++attempt) {
+    complex = original;
+    Complex c{complex.vertices, complex.triangles, pairs};
+    st.flips = st.moves = 0;
+    st.rounds = 0;
+    for (int round = 0; round < rounds; ++round) {
+      st.flips += flip_pass(c, frozen);
+      st.moves += move_pass(field, c, frozen);
+      ++st.rounds;
+    }
+    const std::vector<uint32_t> changed = changed_triangles(complex, original);
+    const auto crossing = changed.empty() ? decltype(new_intersections(complex, original, changed)){}
+                                          : new_intersections(complex, original, changed);
+    clean = crossing.empty();
+    for (const auto& [i, j] : crossing)
+      for (uint32_t t : {i, j})
+        for (uint32_t v : complex.triangles[t]) frozen[v] = 1;
   }
-  // A changed triangle that crosses another: the complex as it was.
-  const std::vector<uint32_t> changed = changed_triangles(complex, original);
-  if (!changed.empty() && !intersecting_triangles(complex, &changed, false).empty()) {
+  if (!clean) {
     complex = original;
     st.reverted = true;
   }

@@ -16,8 +16,10 @@
 //    so the result does not depend on the threads.
 // Vertices on a junction curve (triangles of two or more pairs) never move, and no edge
 // of a junction is flipped, so every label's boundary stays the closed oriented manifold
-// it was, with the same junctions. Where a changed triangle then crosses another (exact
-// predicates, mesh/cgal_geometry.h), the complex is kept as it was.
+// it was, with the same junctions. Where changed triangles then intersect others that
+// they did not (exact predicates, mesh/cgal_geometry.h; triangles that share a vertex
+// included: a fold there stops TetGen), their vertices are frozen and the rounds start
+// again from the complex as it was; after three tries, the complex is kept as it was.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +33,7 @@ struct ComplexOptimizeStats {
   int rounds = 0;
   int64_t flips = 0, moves = 0;
   double min_angle_before_deg = 0, min_angle_after_deg = 0;
-  bool reverted = false;  // a changed triangle crossed another: the complex as it was
+  bool reverted = false;  // changed triangles still intersected others: the complex as it was
   double seconds = 0;
 };
 
