@@ -56,8 +56,8 @@ void add_seeds(const TriangleMesh& m, int source, std::vector<multi::Seed>& out)
     if (spacing[i] > 0) out.push_back({m.vertices[i], spacing[i], source});
 }
 
-// The sampling and the triangulation of the complex of `field` from `seeds`
-// (`resolve_gaps`: multi/material_delaunay.h).
+// The sampling, the triangulation and the optimisation of the complex of `field` from
+// `seeds` (`resolve_gaps`: multi/material_delaunay.h).
 void mesh_complex(const multi::MaterialField& field, const std::vector<multi::Seed>& seeds, bool resolve_gaps,
                   ComputeBackend& backend, Observer& obs, ComplexResult& out) {
   obs.begin("complex");
