@@ -3,7 +3,7 @@
 // and its closedness, per interface its area and triangles' shape, the junction curves,
 // the crossing triangle pairs and the shells removed; renders coloured by label; the
 // triangles' shape; the volume mesh per label when one was made; the stage times and how
-// the complex was sampled and triangulated.
+// the complex was sampled, triangulated and optimised.
 #pragma once
 
 #include <nlohmann/json.hpp>
