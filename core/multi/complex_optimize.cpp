@@ -238,8 +238,8 @@ void optimize_complex(const MaterialField& field, TriangleMesh& complex, int rou
       ++st.rounds;
     }
     const std::vector<uint32_t> changed = changed_triangles(complex, original);
-    const auto crossing = changed.empty() ? decltype(new_intersections(complex, original, changed)){}
-                                          : new_intersections(complex, original, changed);
+    std::vector<std::pair<uint32_t, uint32_t>> crossing;
+    if (!changed.empty()) crossing = new_intersections(complex, original, changed);
     clean = crossing.empty();
     for (const auto& [i, j] : crossing)
       for (uint32_t t : {i, j})
