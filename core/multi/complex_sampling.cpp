@@ -10,9 +10,15 @@
 namespace mpumesh::multi {
 namespace {
 
-// Junction points are thinned to this many spacings; interface seeds dropped this near a
-// junction point or another sampling's seed.
-constexpr double kJunctionThin = 0.75;
+// Junction points are thinned to this many spacings, and their curves' gaps filled to
+// about as many (below about 0.6 of the interface particles' distance from them, the
+// restricted Delaunay triangulation's junction edges run through the interface particles
+// beside the curve instead); interface seeds dropped this near a junction point or
+// another sampling's seed.
+constexpr double kJunctionThin = 0.6;
+// The spacing along a junction curve its gaps are filled to, and the most rounds of it.
+constexpr double kJunctionSpacing = 0.6;
+constexpr int kFillRounds = 6;
 constexpr double kMergeRadius = 0.6;
 
 using Matches = std::vector<std::pair<uint32_t, double>>;
@@ -80,22 +86,18 @@ std::vector<ComplexParticle> junction_candidates(ComputeBackend& backend, const 
   return out;
 }
 
-// Keeps, in order, each particle with no kept one within `radius` spacings (corners
-// before junction points).
-std::vector<ComplexParticle> thin(std::vector<ComplexParticle> pts, double radius) {
-  std::stable_sort(pts.begin(), pts.end(), [](const ComplexParticle& a, const ComplexParticle& b) {
-    if (a.kind != b.kind) return a.kind > b.kind;
-    if (a.regions != b.regions) return a.regions < b.regions;
-    return std::lexicographical_compare(a.p.data(), a.p.data() + 3, b.p.data(), b.p.data() + 3);
-  });
+// The first `held` of `pts` and, in order, each other with none kept within `radius`
+// spacings.
+std::vector<ComplexParticle> keep_apart(std::vector<ComplexParticle> pts, size_t held, double radius) {
   std::vector<Eigen::Vector3d> pos(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) pos[i] = pts[i].p;
   if (pts.empty()) return pts;
   const PointIndex index(pos);
   std::vector<char> kept(pts.size(), 0);
+  std::fill(kept.begin(), kept.begin() + ptrdiff_t(held), 1);
+  std::vector<ComplexParticle> out(pts.begin(), pts.begin() + ptrdiff_t(held));
   Matches m;
-  std::vector<ComplexParticle> out;
-  for (size_t i = 0; i < pts.size(); ++i) {
+  for (size_t i = held; i < pts.size(); ++i) {
     within(index.tree, pos[i], radius * pts[i].spacing, m);
     bool clash = false;
     for (const auto& [j, d2] : m) clash = clash || kept[j];
@@ -106,11 +108,82 @@ std::vector<ComplexParticle> thin(std::vector<ComplexParticle> pts, double radiu
   return out;
 }
 
+// Keeps, in order, each particle with no kept one within `radius` spacings (corners
+// before junction points).
+std::vector<ComplexParticle> thin(std::vector<ComplexParticle> pts, double radius) {
+  std::stable_sort(pts.begin(), pts.end(), [](const ComplexParticle& a, const ComplexParticle& b) {
+    if (a.kind != b.kind) return a.kind > b.kind;
+    if (a.regions != b.regions) return a.regions < b.regions;
+    return std::lexicographical_compare(a.p.data(), a.p.data() + 3, b.p.data(), b.p.data() + 3);
+  });
+  return keep_apart(std::move(pts), 0, radius);
+}
+
 // Step 2b: junction points spread along their curves, corners held.
 void relax_junctions(ComputeBackend& backend, const MaterialField& field, std::vector<ComplexParticle>& jp,
                      int iterations) {
   for (int it = 0; it < iterations && !jp.empty(); ++it)
     jp = run_step(backend, field, ComplexStep::kRelaxJunction, std::move(jp)).out;
+}
+
+// Where a junction particle's curve runs on with no other of its particles within two
+// junction spacings: one junction spacing along it, the direction taken from its nearest
+// particle on the curve (towards it where that one is farther than two spacings, and
+// away from it where no particle lies within two spacings on the other side). None for
+// a particle alone on its curve or a corner.
+std::vector<ComplexParticle> gap_candidates(const std::vector<ComplexParticle>& jp) {
+  std::vector<ComplexParticle> out;
+  if (jp.size() < 2) return out;
+  std::vector<Eigen::Vector3d> pos(jp.size());
+  for (size_t i = 0; i < jp.size(); ++i) pos[i] = jp[i].p;
+  const PointIndex index(pos);
+  Matches m;
+  for (size_t i = 0; i < jp.size(); ++i) {
+    const ComplexParticle& q = jp[i];
+    if (q.kind != ParticleKind::kJunction) continue;
+    const double h = kJunctionSpacing * q.spacing;
+    within(index.tree, q.p, 4 * h, m);
+    // The nearest particle of the same curve, and whether one lies within two spacings
+    // on each side of q along the direction to it.
+    size_t nearest = i;
+    double best = INFINITY;
+    for (const auto& [j, d2] : m)
+      if (j != i && jp[j].regions == q.regions && d2 < best) best = d2, nearest = j;
+    if (nearest == i) continue;
+    const Eigen::Vector3d t = (jp[nearest].p - q.p).normalized();
+    bool ahead = false, behind = false;
+    for (const auto& [j, d2] : m) {
+      if (j == i || jp[j].regions != q.regions || d2 > 4 * h * h) continue;
+      (t.dot(jp[j].p - q.p) > 0 ? ahead : behind) = true;
+    }
+    for (const double side : {1.0, -1.0}) {
+      if (side > 0 ? ahead : behind) continue;
+      ComplexParticle c = q;
+      c.p = q.p + side * h * t;
+      c.kind = ParticleKind::kInterface;
+      out.push_back(c);
+    }
+  }
+  return out;
+}
+
+// Step 2c: the junction curves' gaps filled, in rounds: each gap's candidates
+// (gap_candidates) taken onto their curve by the junction step, kept where no junction
+// particle is within the thinning radius, then all spread along their curves again.
+void fill_junction_gaps(ComputeBackend& backend, const MaterialField& field, std::vector<ComplexParticle>& jp,
+                        int relax_iterations) {
+  for (int round = 0; round < kFillRounds; ++round) {
+    std::vector<ComplexParticle> cand = gap_candidates(jp);
+    if (cand.empty()) return;
+    const ComplexBatch b = run_step(backend, field, ComplexStep::kJunctionCandidate, std::move(cand));
+    const size_t before = jp.size();
+    std::vector<ComplexParticle> grown = jp;
+    for (size_t i = 0; i < b.out.size(); ++i)
+      if (b.ok[i] && b.out[i].kind == ParticleKind::kJunction) grown.push_back(b.out[i]);
+    jp = keep_apart(std::move(grown), before, kJunctionThin);
+    if (jp.size() == before) return;
+    relax_junctions(backend, field, jp, relax_iterations);
+  }
 }
 
 // Step 3a: interface particles near a junction point or another sampling's kept particle
@@ -167,6 +240,7 @@ std::vector<ComplexParticle> sample_complex(const MaterialField& field, const st
   std::vector<Projected> iface = project_seeds(backend, field, seeds, st);
   std::vector<ComplexParticle> junctions = thin(junction_candidates(backend, field, iface), kJunctionThin);
   relax_junctions(backend, field, junctions, options.junction_iterations);
+  fill_junction_gaps(backend, field, junctions, options.junction_iterations / 2);
   junctions = thin(std::move(junctions), 0.5 * kJunctionThin);  // those the spreading brought together
   std::vector<ComplexParticle> all = merge(junctions, std::move(iface), st);
   relax_interfaces(backend, field, all, options.relax_iterations);

@@ -17,11 +17,12 @@ uint64_t next_field_id() {
 }  // namespace
 
 MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits,
-                             const mpu::MpuSurface* outside, const RegionSupport* support)
+                             const mpu::MpuSurface* outside, const RegionSupport* support, double depth)
     : labels_(std::move(labels)),
       fits_(std::move(fits)),
       outside_(outside),
       support_(support),
+      depth_(depth),
       id_(next_field_id()) {}
 
 MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu::MpuSurface*> fits, double contact,
@@ -37,6 +38,9 @@ MaterialField::MaterialField(std::vector<int64_t> labels, std::vector<const mpu:
 namespace {
 // A region beyond its support: never the most inside.
 constexpr double kUnsupported = 1e30;
+// The notch lift grows from none to the whole as the labels' soft minimum at p rises over
+// this fraction of the depth (material_field.h), the soft minimum's scale this fraction.
+constexpr double kNotchRamp = 0.5, kNotchSoftness = 0.1;
 
 // A fit's value over its gradient's length (far outside beyond its box), with the unit
 // gradient when `g` is given.
@@ -95,29 +99,96 @@ double MaterialField::parts_background(const Eigen::Vector3d& p, const std::vect
   return f0;
 }
 
-void MaterialField::values(const Eigen::Vector3d& p, std::vector<double>& f) const {
+void MaterialField::evaluate(const Eigen::Vector3d& p, std::vector<double>& f, std::vector<Eigen::Vector3d>* g) const {
   f.assign(size_t(regions()), 0.0);
-  for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, nullptr);
-  f[0] = outside_ ? -f_of(-1, p, nullptr) : parts_background(p, f, nullptr);
+  if (g) g->assign(size_t(regions()), Eigen::Vector3d::Zero());
+  auto gradient = [&](int r) { return g ? &(*g)[size_t(r)] : nullptr; };
+  if (!outside_) {
+    for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, gradient(r));
+    f[0] = parts_background(p, f, g);
+    mask_unsupported(p, f);
+    return;
+  }
+  // A label map (the header's rule): the union bounds the background; the labels compare
+  // at q, and as much inside as the union at p.
+  Eigen::Vector3d gu;
+  const double fu = f_of(-1, p, &gu);
+  for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, gradient(r));
+  f[0] = -fu / 2;
+  if (g) (*g)[0] = -gu / 2;
+  mask_unsupported(p, f);
+  const Lift lift = notch_lift(fu, f, g);
+  if (lift.length > 0) {
+    const Eigen::Vector3d q = p - lift.length * gu;
+    // The lift's gradient: w grad f_U + (f_U + depth) grad w (the offset's curvature left
+    // out).
+    const Eigen::Vector3d grad_lift = lift.w * gu + (fu + depth_) * lift.grad_w;
+    for (int r = 1; r < regions(); ++r) {
+      if (!(f[size_t(r)] < kUnsupported)) continue;
+      f[size_t(r)] = f_of(r, q, gradient(r));
+      // f_r(q(p)), dq = dp - grad f_U (grad_lift . dp): the chain rule.
+      if (g) (*g)[size_t(r)] -= grad_lift * gu.dot((*g)[size_t(r)]);
+    }
+  }
+  int m = 0;  // the most inside label supported at p
+  for (int r = 1; r < regions(); ++r)
+    if (f[size_t(r)] < kUnsupported && (m == 0 || f[size_t(r)] < f[size_t(m)])) m = r;
+  if (m == 0) return;
+  const double shift = fu / 2 - f[size_t(m)];
+  const Eigen::Vector3d shift_g = g ? Eigen::Vector3d(gu / 2 - (*g)[size_t(m)]) : Eigen::Vector3d::Zero();
+  for (int r = 1; r < regions(); ++r) {
+    if (!(f[size_t(r)] < kUnsupported)) continue;
+    f[size_t(r)] += shift;
+    if (g) (*g)[size_t(r)] += shift_g;
+  }
+}
+
+MaterialField::Lift MaterialField::notch_lift(double fu, const std::vector<double>& f,
+                                              const std::vector<Eigen::Vector3d>* g) const {
+  Lift out;
+  if (!(depth_ > 0 && fu > -depth_)) return out;
+  // The labels' soft minimum o = lo - eps log sum_r exp(-(f_r - lo) / eps), summed as the
+  // labels come (lo the lowest so far, the sum rescaled when it falls), and its gradient,
+  // the labels' gradients weighted as their terms: smooth across an interface between
+  // two labels, where the plain minimum's gradient jumps from one label's to the other's.
+  const double eps = kNotchSoftness * depth_;
+  double lo = INFINITY, sum = 0;
+  Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+  for (int r = 1; r < regions(); ++r) {
+    const double v = f[size_t(r)];
+    if (!(v < kUnsupported)) continue;
+    const Eigen::Vector3d gr = g ? (*g)[size_t(r)] : Eigen::Vector3d::Zero();
+    if (v < lo) {
+      const double scale = lo < INFINITY ? std::exp(-(lo - v) / eps) : 0.0;
+      sum = sum * scale + 1;
+      grad = grad * scale + gr;
+      lo = v;
+    } else {
+      const double e = std::exp(-(v - lo) / eps);
+      sum += e;
+      grad += e * gr;
+    }
+  }
+  if (!(sum > 0)) return out;
+  const double ramp = kNotchRamp * depth_, outside = lo - eps * std::log(sum);
+  if (!(outside > 0)) return out;
+  out.w = std::min(outside / ramp, 1.0);
+  out.length = out.w * (fu + depth_);
+  if (outside < ramp) out.grad_w = grad / (sum * ramp);
+  return out;
+}
+
+void MaterialField::mask_unsupported(const Eigen::Vector3d& p, std::vector<double>& f) const {
   if (support_)
     for (int r = 0; r < regions(); ++r)
       if (!support_->allows(r, p)) f[size_t(r)] = kUnsupported;
 }
 
+void MaterialField::values(const Eigen::Vector3d& p, std::vector<double>& f) const { evaluate(p, f, nullptr); }
+
 void MaterialField::values_and_gradients(const Eigen::Vector3d& p, std::vector<double>& f,
                                          std::vector<Eigen::Vector3d>& g) const {
-  f.assign(size_t(regions()), 0.0);
-  g.assign(size_t(regions()), Eigen::Vector3d::Zero());
-  for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, &g[size_t(r)]);
-  if (outside_) {
-    f[0] = -f_of(-1, p, &g[0]);
-    g[0] = -g[0];
-  } else {
-    f[0] = parts_background(p, f, &g);
-  }
-  if (support_)
-    for (int r = 0; r < regions(); ++r)
-      if (!support_->allows(r, p)) f[size_t(r)] = kUnsupported;
+  evaluate(p, f, &g);
 }
 
 int MaterialField::region_at(const Eigen::Vector3d& p) const {

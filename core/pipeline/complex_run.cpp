@@ -355,7 +355,8 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
     out.regions.push_back({sorted.back(), n, double(n) * voxel_mm3});
   }
   const multi::RegionSupport support(vol, sorted);
-  const multi::MaterialField field(sorted, fit_of, union_run ? &union_run->surface : nullptr, &support);
+  const multi::MaterialField field(sorted, fit_of, union_run ? &union_run->surface : nullptr, &support,
+                                   multi::kLabelDepthVoxels * vol.in_plane_spacing());
   mesh_complex(field, seeds, /*resolve_gaps=*/false, open_backend(), obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();

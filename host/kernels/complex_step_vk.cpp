@@ -107,6 +107,7 @@ MaterialDeviceField::MaterialDeviceField(Context& ctx, const multi::MaterialFiel
   push.unions = uint32_t(field.unions().fits.size());
   push.outside = field.outside() ? uint32_t(all.size() - 1) : CX_NONE;
   push.contact = float(field.contact());
+  push.depth = float(field.depth());
   leaves = upload_vector(ctx, packed);
   offsets = upload_vector(ctx, offs);
   leaf_ids = upload_vector(ctx, ids);

@@ -12,6 +12,10 @@ const float CX_UNSUPPORTED = 1e30;
 // is the finest a float step tells apart from its noise.
 const float CX_TOLERANCE = 1e-4;
 const int CX_STEPS = 12;
+// The notch lift grows from none to the whole over this fraction of the depth, the labels'
+// soft minimum's scale this fraction (kNotchRamp, kNotchSoftness in material_field.cpp).
+const float CX_NOTCH_RAMP = 0.5;
+const float CX_NOTCH_SOFTNESS = 0.1;
 
 MpuGridRef fit_grid(CxFit F) {
   MpuGridRef G;
@@ -111,33 +115,6 @@ float parts_background(Units u, out vec3 g0) {
 // they can, in loops: a shader compiler inlines every call, and each place the
 // evaluation is inlined costs the driver's compiler time and the kernel registers.
 
-// Region r's function at p with its gradient (values_and_gradients, one region): a walk
-// over the fits it is made of, its own for a label, the labels' union for a label map's
-// background, every unit (the contact unions, then the parts in contact with none) for a
-// mesh's parts' background.
-float region_f(uint r, vec3 p, out vec3 g) {
-  bool parts = r == 0u && pc.outside == CX_NONE;
-  uint n = parts ? pc.unions + pc.regions - 1u : 1u;
-  Units u = no_units();
-  for (uint k = 0u; k < n; ++k) {
-    uint fit = r > 0u ? r - 1u : pc.outside;
-    if (parts) fit = k < pc.unions ? pc.regions - 1u + k : k - pc.unions;
-    if (parts && k >= pc.unions && !ungrouped(fit + 1u)) continue;
-    vec3 gk;
-    float fk = fit_distance(fit, p, gk);
-    consider(u, fk, gk);
-  }
-  float f = u.f1;
-  g = u.g1;
-  if (parts) {
-    f = parts_background(u, g);
-  } else if (r == 0u) {
-    f = -f;
-    g = -g;
-  }
-  return allows(r, p) ? f : CX_UNSUPPORTED;
-}
-
 // The four most inside regions at p, in order (ties by index), with their values; fewer
 // where the field has fewer regions (unused entries CX_NONE, +inf).
 struct Ranked {
@@ -159,42 +136,127 @@ void insert_ranked(inout Ranked k, uint r, float f) {
   }
 }
 
-// Every fit once: the labels' (ranked as they come), the contact unions and the labels'
-// union (the background's function, ranked last).
-Ranked ranked(vec3 p) {
-  Ranked k;
+void clear_labels(inout Ranked k, inout float f[4], inout vec3 g[4]) {
   for (int i = 0; i < 4; ++i) {
     k.r[i] = CX_NONE;
     k.f[i] = 1.0 / 0.0;
+    f[i] = CX_UNSUPPORTED;
+    g[i] = vec3(0.0);
   }
+}
+
+// The field at p (MaterialField::evaluate): the values and gradients of regions
+// regs[0 .. n) in f and g, and the four most inside regions in k. Every fit in one loop:
+// for a label map whose labels touch, the labels' union first (at p), then the labels at
+// p and, where the union's notch lift moves p to q, the labels again at q, each shifted
+// so that the most inside holds half the union's value; for a label map whose labels
+// touch nowhere and a mesh's parts, the labels (at p) and the parts' contact unions.
+void field_at(vec3 p, uvec4 regs, uint n, out Ranked k, out float f[4], out vec3 g[4]) {
+  clear_labels(k, f, g);
   bool parts = pc.outside == CX_NONE;
   uint labels = pc.regions - 1u;
-  uint fits = labels + pc.unions + (parts ? 0u : 1u);
+  uint count = parts ? labels + pc.unions : 1u + 2u * labels;
   Units u = no_units();
-  float f0 = 0.0;
-  for (uint j = 0u; j < fits; ++j) {
-    vec3 g;
-    float f = fit_distance(j, p, g);
-    if (j >= labels) {
-      if (parts) consider(u, f, g);
-      else f0 = -f;
+  float fu = 0.0, fm = CX_UNSUPPORTED;
+  vec3 gu = vec3(0.0), gm = vec3(0.0), q = p, grad_lift = vec3(0.0);
+  // The labels' soft minimum at p (MaterialField::notch_lift), summed as they come.
+  float eps = CX_NOTCH_SOFTNESS * pc.depth, lo = 1.0 / 0.0, sum = 0.0;
+  vec3 grad_lo = vec3(0.0);
+  for (uint s = 0u; s < count; ++s) {
+    bool again = !parts && s > labels;  // the labels at q
+    if (again && s == labels + 1u) {
+      // The notch lift (MaterialField::notch_lift).
+      if (!(pc.depth > 0.0 && fu > -pc.depth && sum > 0.0)) break;
+      float ramp = CX_NOTCH_RAMP * pc.depth, outside = lo - eps * log(sum);
+      if (!(outside > 0.0)) break;
+      float w = min(outside / ramp, 1.0);
+      vec3 grad_w = outside < ramp ? grad_lo / (sum * ramp) : vec3(0.0);
+      q = p - w * (fu + pc.depth) * gu;
+      grad_lift = w * gu + (fu + pc.depth) * grad_w;
+      clear_labels(k, f, g);
+      fm = CX_UNSUPPORTED;
+    }
+    uint fit = parts ? s : (s == 0u ? pc.outside : (again ? s - labels - 1u : s - 1u));
+    vec3 gj;
+    float fj = fit_distance(fit, again ? q : p, gj);
+    if (!parts && s == 0u) {
+      fu = fj;
+      gu = gj;
       continue;
     }
-    if (parts && ungrouped(j + 1u)) consider(u, f, g);
-    insert_ranked(k, j + 1u, allows(j + 1u, p) ? f : CX_UNSUPPORTED);
+    if (fit >= labels) {  // a contact union
+      consider(u, fj, gj);
+      continue;
+    }
+    uint r = fit + 1u;
+    if (parts && ungrouped(r)) consider(u, fj, gj);
+    if (again) gj -= grad_lift * dot(gu, gj);
+    bool ok = allows(r, p);
+    float v = ok ? fj : CX_UNSUPPORTED;
+    if (!parts && ok && fj < fm) {
+      fm = fj;
+      gm = gj;
+    }
+    if (!parts && !again && ok) {
+      if (fj < lo) {
+        float scale = lo < 1.0 / 0.0 ? exp(-(lo - fj) / eps) : 0.0;
+        sum = sum * scale + 1.0;
+        grad_lo = grad_lo * scale + gj;
+        lo = fj;
+      } else {
+        float e = exp(-(fj - lo) / eps);
+        sum += e;
+        grad_lo += e * gj;
+      }
+    }
+    insert_ranked(k, r, v);
+    for (uint i = 0u; i < 4u; ++i)
+      if (i < n && regs[i] == r) {
+        f[i] = v;
+        g[i] = gj;
+      }
   }
+  float f0;
   vec3 g0;
-  if (parts) f0 = parts_background(u, g0);
-  insert_ranked(k, 0u, allows(0u, p) ? f0 : CX_UNSUPPORTED);
+  if (parts) {
+    f0 = parts_background(u, g0);
+  } else {
+    f0 = -0.5 * fu;
+    g0 = -0.5 * gu;
+    if (fm < CX_UNSUPPORTED) {  // the labels under the union
+      float shift = 0.5 * fu - fm;
+      vec3 shift_g = 0.5 * gu - gm;
+      for (int i = 0; i < 4; ++i)
+        if (k.r[i] != CX_NONE && k.f[i] < CX_UNSUPPORTED) k.f[i] += shift;
+      for (uint i = 0u; i < 4u; ++i)
+        if (i < n && regs[i] != 0u && f[i] < CX_UNSUPPORTED) {
+          f[i] += shift;
+          g[i] += shift_g;
+        }
+    }
+  }
+  float v0 = allows(0u, p) ? f0 : CX_UNSUPPORTED;
+  insert_ranked(k, 0u, v0);
+  for (uint i = 0u; i < 4u; ++i)
+    if (i < n && regs[i] == 0u) {
+      f[i] = v0;
+      g[i] = g0;
+    }
+}
+
+Ranked ranked(vec3 p) {
+  Ranked k;
+  float f[4];
+  vec3 g[4];
+  field_at(p, uvec4(0u), 0u, k, f, g);
   return k;
 }
 
 // The gradients of regions regs[0 .. n).
 void gradients(vec3 p, uvec4 regs, uint n, out vec3 g[4]) {
-  for (uint i = 0u; i < 4u; ++i) {
-    g[i] = vec3(0.0);
-    if (i < n) region_f(regs[i], p, g[i]);
-  }
+  Ranked k;
+  float f[4];
+  field_at(p, regs, n, k, f, g);
 }
 
 // p onto where regions regs[0 .. n) (n = 2, 3 or 4) have equal functions: Newton steps on
@@ -204,13 +266,11 @@ void gradients(vec3 p, uvec4 regs, uint n, out vec3 g[4]) {
 bool project_equal(inout vec3 p, uvec4 regs, uint n, float max_move) {
   vec3 start = p;
   for (int it = 0; it < CX_STEPS; ++it) {
+    Ranked k;
     float f[4];
     vec3 g[4];
-    for (uint i = 0u; i < 4u; ++i) {
-      f[i] = 0.0;
-      g[i] = vec3(0.0);
-      if (i < n) f[i] = region_f(regs[i], p, g[i]);
-    }
+    field_at(p, regs, n, k, f, g);
+    for (uint i = n; i < 4u; ++i) f[i] = 0.0;
     vec3 r0 = g[0] - g[1], r1 = g[0] - g[2], r2 = g[0] - g[3];
     vec3 d = vec3(f[0] - f[1], f[0] - f[2], f[0] - f[3]);
     vec3 step;

@@ -67,7 +67,7 @@ struct ComplexPush {
   float to_index[9];
   float map_origin[3];
   uint map_dims[3];
-  uint pad0;
+  float depth;   // a label map's: where its labels compare inside their union (mm)
 };
 ABI_END
 
