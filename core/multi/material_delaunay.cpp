@@ -126,15 +126,34 @@ std::vector<size_t> defective_facets(const std::vector<Facet>& facets, const std
   return out;
 }
 
+// An end of a facet's dual Voronoi edge in cell c, `other` the cell across the facet: c's
+// circumcentre or, for the infinite cell beyond a facet of the convex hull, a point on
+// the dual ray from other's circumcentre out through the facet, four facet sizes beyond
+// the facet and that circumcentre, where the infinite cells' region (the background)
+// lies.
+Eigen::Vector3d dual_end(const Dt& dt, Cell c, Cell other) {
+  if (!dt.is_infinite(c)) return centre(c);
+  const int k = other->index(c);  // other's vertex opposite the facet
+  const Eigen::Vector3d apex = vec(other->vertex(k)->point()), a = vec(other->vertex((k + 1) & 3)->point()),
+                        b = vec(other->vertex((k + 2) & 3)->point()), d = vec(other->vertex((k + 3) & 3)->point());
+  Eigen::Vector3d n = (b - a).cross(d - a);
+  if (n.dot(a - apex) < 0) n = -n;
+  n.normalize();
+  const Eigen::Vector3d from = centre(other), mid = (a + b + d) / 3;
+  const double size = std::max({(b - a).norm(), (d - a).norm(), (d - b).norm()});
+  return from + n * (std::max(0.0, n.dot(mid - from)) + 4 * size);
+}
+
 // Where the labelling changes along the facet's dual Voronoi edge, first from the lower
 // region's side (from the higher's with `from_higher`), on the interface of the two regions
 // met there; false when none is found.
 bool dual_crossing(const MaterialField& field, const Dt& dt, const Facet& F, Eigen::Vector3d& x,
                    bool from_higher = false) {
   Cell near = F.cell, far = F.cell->neighbor(F.i);
-  if (dt.is_infinite(near) || dt.is_infinite(far)) return false;
+  if (dt.is_infinite(near) && dt.is_infinite(far)) return false;
   if (from_higher) std::swap(near, far);
-  Eigen::Vector3d lo = centre(near), hi = centre(far);
+  const Eigen::Vector3d near_end = dual_end(dt, near, far), far_end = dual_end(dt, far, near);
+  Eigen::Vector3d lo = near_end, hi = far_end;
   const int r0 = field.region_at(lo);
   if (field.region_at(hi) == r0) return false;
   for (int it = 0; it < 40; ++it) {
@@ -143,7 +162,7 @@ bool dual_crossing(const MaterialField& field, const Dt& dt, const Facet& F, Eig
   }
   const int r1 = field.region_at(hi);
   x = 0.5 * (lo + hi);
-  const double reach = std::max((hi - lo).norm(), 0.25 * (centre(near) - centre(far)).norm());
+  const double reach = std::max((hi - lo).norm(), 0.25 * (near_end - far_end).norm());
   Eigen::Vector3d p = x;
   if (field.project_interface(p, std::min(r0, r1), std::max(r0, r1), reach)) x = p;
   return true;
