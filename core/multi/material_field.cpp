@@ -102,21 +102,25 @@ double MaterialField::parts_background(const Eigen::Vector3d& p, const std::vect
 void MaterialField::evaluate(const Eigen::Vector3d& p, std::vector<double>& f, std::vector<Eigen::Vector3d>* g) const {
   f.assign(size_t(regions()), 0.0);
   if (g) g->assign(size_t(regions()), Eigen::Vector3d::Zero());
-  auto gradient = [&](int r) { return g ? &(*g)[size_t(r)] : nullptr; };
-  if (!outside_) {
-    for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, gradient(r));
-    f[0] = parts_background(p, f, g);
-    mask_unsupported(p, f);
+  if (outside_) {
+    evaluate_under_union(p, f, g);
     return;
   }
-  // A label map (the header's rule): the union bounds the background; the labels compare
-  // at q, and as much inside as the union at p.
+  for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, g ? &(*g)[size_t(r)] : nullptr);
+  f[0] = parts_background(p, f, g);
+  mask_unsupported(p, f);
+}
+
+void MaterialField::evaluate_under_union(const Eigen::Vector3d& p, std::vector<double>& f,
+                                         std::vector<Eigen::Vector3d>* g) const {
+  auto gradient = [&](int r) { return g ? &(*g)[size_t(r)] : nullptr; };
   Eigen::Vector3d gu;
   const double fu = f_of(-1, p, &gu);
   for (int r = 1; r < regions(); ++r) f[size_t(r)] = f_of(r, p, gradient(r));
   f[0] = -fu / 2;
   if (g) (*g)[0] = -gu / 2;
   mask_unsupported(p, f);
+  // In a rims' notch the labels again, at q.
   const Lift lift = notch_lift(fu, f, g);
   if (lift.length > 0) {
     const Eigen::Vector3d q = p - lift.length * gu;
@@ -130,7 +134,8 @@ void MaterialField::evaluate(const Eigen::Vector3d& p, std::vector<double>& f, s
       if (g) (*g)[size_t(r)] -= grad_lift * gu.dot((*g)[size_t(r)]);
     }
   }
-  int m = 0;  // the most inside label supported at p
+  // The labels shifted so that the most inside holds half the union's value.
+  int m = 0;
   for (int r = 1; r < regions(); ++r)
     if (f[size_t(r)] < kUnsupported && (m == 0 || f[size_t(r)] < f[size_t(m)])) m = r;
   if (m == 0) return;

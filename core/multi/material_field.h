@@ -119,6 +119,8 @@ class MaterialField {
                           std::vector<Eigen::Vector3d>* g) const;
   // Every region's function at p (and gradients when `g` is given).
   void evaluate(const Eigen::Vector3d& p, std::vector<double>& f, std::vector<Eigen::Vector3d>* g) const;
+  // The same for a label map whose labels' union bounds the background (the header's h).
+  void evaluate_under_union(const Eigen::Vector3d& p, std::vector<double>& f, std::vector<Eigen::Vector3d>* g) const;
   // How far p goes to q along the union's normal (the header's w (f_U + depth)), from the
   // union's value `fu` at p and the regions' values `f` (and gradients `g`) there, with w
   // and its gradient.
