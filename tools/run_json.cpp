@@ -297,6 +297,8 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
            {{"points", t.points},
             {"repair_points", t.repair_points},
             {"repair_rounds", t.repair_rounds},
+            {"refine_points", t.refine_points},
+            {"refine_rounds", t.refine_rounds},
             {"open_edges_left", t.bad_edges},
             {"seconds", t.seconds}}},
           {"seconds",

@@ -8,8 +8,9 @@
 //      seed goes onto its interface f_a = f_b by Newton steps.
 //   2. Junctions: a seed whose third region is within one spacing of its two goes onto
 //      the curve of the three (and onto the point of four, where a fourth region is as
-//      near: a corner, held); the curve's points are thinned to 0.75 spacings and spread
-//      along the curve by a one-dimensional repulsion.
+//      near: a corner, held); the curve's points are thinned to 0.6 spacings, spread
+//      along the curve by a one-dimensional repulsion, and the curve's gaps filled to
+//      0.6 spacings.
 //   3. Interfaces: a seed within 0.6 spacings of a junction point, or of a kept seed of
 //      another surface's sampling, is dropped; the rest are relaxed by a short-range
 //      repulsion in their interface's tangent plane, projected back each step, the

@@ -10,7 +10,7 @@
 #include <algorithm>
 #include <chrono>
 #include <map>
-#include <unordered_map>
+#include <optional>
 
 #include "common/error.h"
 #include "mesh/circumcentre.h"
@@ -47,13 +47,15 @@ Eigen::Vector3d centre(Cell c) {
 
 int region_of(const Dt& dt, Cell c) { return dt.is_infinite(c) ? 0 : c->info().region; }
 
-void label_new_cells(const MaterialField& field, Dt& dt) {
+// The cells not labelled yet labelled; they are returned.
+std::vector<Cell> label_new_cells(const MaterialField& field, Dt& dt) {
   std::vector<Cell> todo;
   for (auto c = dt.finite_cells_begin(); c != dt.finite_cells_end(); ++c)
     if (c->info().region == kUnlabelled) todo.push_back(c);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, todo.size(), 512), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k != r.end(); ++k) todo[k]->info().region = field.region_at(centre(todo[k]));
   });
+  return todo;
 }
 
 struct Facet {
@@ -84,45 +86,113 @@ std::vector<Facet> complex_facets(const Dt& dt) {
   return out;
 }
 
-struct EdgeUse {
-  int count = 0, balance = 0;  // facets, and their directions (+1 a->b, -1 b->a) summed
-  size_t widest = SIZE_MAX;
-  double area = -1;
+using Vertex = Dt::Vertex_handle;
+using EdgeEnds = std::pair<Vertex, Vertex>;
+
+// The boundary edges of a region with other than two facets, each with its widest facet,
+// kept from one round to the next: an edge's regions' boundaries change only where a
+// cell around it is new, so a round looks at the edges of the complex's facets on new
+// cells and at those that were defective before, not at every edge.
+struct DefectSearch {
+  std::vector<EdgeEnds> defective;  // the edges found defective at the last look
+  int64_t count = 0;                // (region, edge) pairs among them
 };
 
-// Region r's boundary edges with other than two facets or an unbalanced orientation, each
-// with its widest facet.
-std::vector<size_t> defective_facets(const std::vector<Facet>& facets, const std::vector<Eigen::Vector3d>& pts,
-                                     int regions, int64_t* defects) {
-  std::vector<size_t> out;
-  int64_t n = 0;
-  for (int r = 0; r < regions; ++r) {
-    std::unordered_map<uint64_t, EdgeUse> edges;
-    for (size_t f = 0; f < facets.size(); ++f) {
-      const Facet& F = facets[f];
-      if (F.regions[0] != r && F.regions[1] != r) continue;
-      const double area = (pts[F.v[1]] - pts[F.v[0]]).cross(pts[F.v[2]] - pts[F.v[0]]).norm();
-      const int sign = F.regions[0] == r ? 1 : -1;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t a = F.v[size_t(k)], b = F.v[size_t((k + 1) % 3)];
-        EdgeUse& e = edges[edge_key(a, b)];
-        ++e.count;
-        e.balance += (a < b ? 1 : -1) * sign;
-        if (area > e.area) {
-          e.area = area;
-          e.widest = f;
-        }
-      }
+// Around the edge (c, i, j) the regions of its cells, in turn; a region whose cells there
+// make more than one run has more than two boundary facets at the edge (a union of
+// cells' boundary is balanced in orientation by construction, so the count alone
+// decides). Each such region's widest facet at the edge goes to `widest`; the count of
+// such regions is returned.
+int defects_at_edge(const Dt& dt, Cell c, int i, int j, const std::vector<Eigen::Vector3d>& pts,
+                    std::vector<Facet>& widest) {
+  std::vector<Cell> ring;
+  Dt::Cell_circulator cc = dt.incident_cells(c, i, j), done = cc;
+  do ring.push_back(cc);
+  while (++cc != done);
+  struct Use {
+    int region, facets = 0;
+    double area = -1;
+    Facet widest;
+  };
+  std::vector<Use> uses;
+  for (size_t k = 0; k < ring.size(); ++k) {
+    const Cell a = ring[k], b = ring[(k + 1) % ring.size()];
+    const int ra = region_of(dt, a), rb = region_of(dt, b);
+    if (ra == rb) continue;
+    const int ia = a->index(b);
+    // The facet from its lower region's side, or from its finite one on the hull.
+    const bool from_a = dt.is_infinite(b) || (!dt.is_infinite(a) && ra < rb);
+    const Cell lower = from_a ? a : b;
+    const int at = from_a ? ia : b->index(a);
+    Facet f{lower, at, {}, {std::min(ra, rb), std::max(ra, rb)}};
+    for (int m = 0; m < 3; ++m) f.v[size_t(m)] = lower->vertex((at + 1 + m) & 3)->info();
+    std::sort(f.v.begin(), f.v.end());
+    const double area = (pts[f.v[1]] - pts[f.v[0]]).cross(pts[f.v[2]] - pts[f.v[0]]).norm();
+    for (const int r : {ra, rb}) {
+      auto u = std::find_if(uses.begin(), uses.end(), [&](const Use& x) { return x.region == r; });
+      if (u == uses.end()) u = uses.insert(uses.end(), Use{r});
+      ++u->facets;
+      if (area > u->area) u->area = area, u->widest = f;
     }
-    for (const auto& [key, e] : edges)
-      if (e.count != 2 || e.balance != 0) {
-        ++n;
-        out.push_back(e.widest);
-      }
   }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  if (defects) *defects = n;
+  int n = 0;
+  for (const Use& u : uses)
+    if (u.facets != 2) {
+      ++n;
+      widest.push_back(u.widest);
+    }
+  return n;
+}
+
+// The edges a round looks at: those of the complex's facets on `fresh` cells and those
+// defective at the last look that are still edges, each once, in the order of their
+// vertex ids.
+std::vector<EdgeEnds> edges_to_check(const Dt& dt, const std::vector<Cell>& fresh, const DefectSearch& search) {
+  std::vector<std::pair<uint64_t, EdgeEnds>> keyed;
+  for (const Cell c : fresh)
+    for (int i = 0; i < 4; ++i) {
+      if (region_of(dt, c) == region_of(dt, c->neighbor(i))) continue;
+      for (int m = 1; m < 4; ++m)
+        for (int n = m + 1; n < 4; ++n) {
+          const Vertex a = c->vertex((i + m) & 3), b = c->vertex((i + n) & 3);
+          keyed.push_back({edge_key(a->info(), b->info()), {a, b}});
+        }
+    }
+  for (const EdgeEnds& e : search.defective) keyed.push_back({edge_key(e.first->info(), e.second->info()), e});
+  std::sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  keyed.erase(std::unique(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
+              keyed.end());
+  std::vector<EdgeEnds> out;
+  out.reserve(keyed.size());
+  for (const auto& k : keyed) out.push_back(k.second);
+  return out;
+}
+
+// The widest facet at each defective edge among those to check, each facet once, in the
+// order of their vertex ids; `search` updated.
+std::vector<Facet> defective_facets(const Dt& dt, const std::vector<Cell>& fresh, const std::vector<Eigen::Vector3d>& pts,
+                                    DefectSearch& search) {
+  const std::vector<EdgeEnds> edges = edges_to_check(dt, fresh, search);
+  std::vector<std::vector<Facet>> found(edges.size());
+  std::vector<int> count(edges.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, edges.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) {
+      Cell c;
+      int i = 0, j = 0;
+      if (dt.is_edge(edges[k].first, edges[k].second, c, i, j)) count[k] = defects_at_edge(dt, c, i, j, pts, found[k]);
+    }
+  });
+  search.defective.clear();
+  search.count = 0;
+  std::vector<Facet> out;
+  for (size_t k = 0; k < edges.size(); ++k) {
+    if (count[k] == 0) continue;
+    search.defective.push_back(edges[k]);
+    search.count += count[k];
+    out.insert(out.end(), found[k].begin(), found[k].end());
+  }
+  std::sort(out.begin(), out.end(), [](const Facet& a, const Facet& b) { return a.v < b.v; });
+  out.erase(std::unique(out.begin(), out.end(), [](const Facet& a, const Facet& b) { return a.v == b.v; }), out.end());
   return out;
 }
 
@@ -200,25 +270,69 @@ bool passes_through_third(const MaterialField& field, const Dt& dt, const Facet&
 }
 
 // The points a repair round adds: for each facet at a defective boundary edge
-// (defective_facets), the labelling's crossing on its dual edge; with `resolve_gaps`, for
-// each facet between two labels whose dual edge passes through a third region, the
-// crossings from both ends, one on each label's side of the gap.
+// (`defective`), the labelling's crossing on its dual edge; with `resolve_gaps`, for each
+// facet between two labels whose dual edge passes through a third region, the crossings
+// from both ends, one on each label's side of the gap.
 std::vector<Eigen::Vector3d> repair_points(const MaterialField& field, const Dt& dt, const std::vector<Facet>& facets,
-                                           const std::vector<Eigen::Vector3d>& pts, bool resolve_gaps,
-                                           int64_t* defects) {
-  std::vector<char> kind(facets.size(), 0);  // 1: defective, 2: through a third region
-  for (size_t f : defective_facets(facets, pts, field.regions(), defects)) kind[f] = 1;
-  if (resolve_gaps)
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, facets.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
-      for (size_t f = r.begin(); f != r.end(); ++f)
-        if (passes_through_third(field, dt, facets[f])) kind[f] = 2;
-    });
+                                           const std::vector<Facet>& defective, bool resolve_gaps) {
   std::vector<Eigen::Vector3d> add;
+  Eigen::Vector3d x;
+  for (const Facet& f : defective)
+    if (dual_crossing(field, dt, f, x)) add.push_back(x);
+  if (!resolve_gaps) return add;
+  std::vector<char> gap(facets.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, facets.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t f = r.begin(); f != r.end(); ++f) gap[f] = passes_through_third(field, dt, facets[f]);
+  });
   for (size_t f = 0; f < facets.size(); ++f) {
-    Eigen::Vector3d x;
-    if (kind[f] >= 1 && dual_crossing(field, dt, facets[f], x)) add.push_back(x);
-    if (kind[f] == 2 && dual_crossing(field, dt, facets[f], x, true)) add.push_back(x);
+    if (!gap[f]) continue;
+    if (dual_crossing(field, dt, facets[f], x)) add.push_back(x);
+    if (dual_crossing(field, dt, facets[f], x, true)) add.push_back(x);
   }
+  return add;
+}
+
+constexpr double kPi = 3.14159265358979323846;
+// Facets with a smaller angle than this are refined, for at most this many rounds.
+constexpr double kRefineAngleDeg = 20;
+constexpr int kRefineRounds = 8;
+
+double smallest_angle_deg(const std::array<Eigen::Vector3d, 3>& p) {
+  double m = kPi;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d u = p[size_t((k + 1) % 3)] - p[size_t(k)], v = p[size_t((k + 2) % 3)] - p[size_t(k)];
+    m = std::min(m, std::atan2(u.cross(v).norm(), u.dot(v)));
+  }
+  return m * 180 / kPi;
+}
+
+// The points a refinement round adds: for each facet with an angle below kRefineAngleDeg,
+// the centre of its surface Delaunay ball (its dual edge's crossing with the labelling),
+// as in Chew's surface refinement and CGAL Mesh_3's facet criteria. Such a centre lies as
+// far from every vertex as the ball's radius, at least the facet's circumradius; a centre
+// the projection onto the interface brought within half the facet's shortest edge of a
+// vertex is left out, so no edge shorter than that is made. Where the interface
+// particles are far sparser than the junction points beside them (a flat interface
+// meeting a junction curve, as where a scan's cut plane crosses a bone), the facets
+// between the two are needles, and the rounds grade the spacing from one to the other.
+std::vector<Eigen::Vector3d> refinement_points(const MaterialField& field, const Dt& dt,
+                                               const std::vector<Facet>& facets,
+                                               const std::vector<Eigen::Vector3d>& pts) {
+  std::vector<std::optional<Eigen::Vector3d>> at(facets.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, facets.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t f = r.begin(); f != r.end(); ++f) {
+      const std::array<Eigen::Vector3d, 3> p = {pts[facets[f].v[0]], pts[facets[f].v[1]], pts[facets[f].v[2]]};
+      if (smallest_angle_deg(p) >= kRefineAngleDeg) continue;
+      Eigen::Vector3d x;
+      if (!dual_crossing(field, dt, facets[f], x)) continue;
+      const Point q = dt.nearest_vertex(Point(x.x(), x.y(), x.z()))->point();
+      const double shortest = std::min({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
+      if ((Eigen::Vector3d(q.x(), q.y(), q.z()) - x).norm() >= 0.5 * shortest) at[f] = x;
+    }
+  });
+  std::vector<Eigen::Vector3d> add;
+  for (const auto& x : at)
+    if (x) add.push_back(*x);
   return add;
 }
 
@@ -231,7 +345,7 @@ std::vector<Eigen::Vector3d> repair_points(const MaterialField& field, const Dt&
 // distance leaves a thin gap's defects to later rounds that bridge it: on the joint
 // phantom a facet between the ball and the cup.)
 void insert_repair_points(const std::vector<Eigen::Vector3d>& add, Dt& dt, std::vector<Eigen::Vector3d>& pts,
-                          ComplexDelaunayStats& st) {
+                          int64_t& count) {
   std::vector<double> clearance(add.size());
   for (size_t k = 0; k < add.size(); ++k) {
     const Point q = dt.nearest_vertex(Point(add[k].x(), add[k].y(), add[k].z()))->point();
@@ -249,7 +363,7 @@ void insert_repair_points(const std::vector<Eigen::Vector3d>& add, Dt& dt, std::
     v->info() = uint32_t(pts.size());
     pts.push_back(x);
     inserted.push_back(x);
-    ++st.repair_points;
+    ++count;
   }
 }
 
@@ -270,13 +384,27 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
   Dt dt;
   dt.insert(in.begin(), in.end());
   std::vector<Facet> facets;
-  for (int round = 0;; ++round) {
-    label_new_cells(field, dt);
+  DefectSearch search;
+  int repair_rounds_since_refinement = 0;
+  for (;;) {
+    const std::vector<Cell> fresh = label_new_cells(field, dt);
     facets = complex_facets(dt);
-    const std::vector<Eigen::Vector3d> add = repair_points(field, dt, facets, pts, resolve_gaps, &st.bad_edges);
-    if (add.empty() || round == kMaxRounds) break;
-    ++st.repair_rounds;
-    insert_repair_points(add, dt, pts, st);
+    const std::vector<Facet> defective = defective_facets(dt, fresh, pts, search);
+    st.bad_edges = search.count;
+    const std::vector<Eigen::Vector3d> repair = repair_points(field, dt, facets, defective, resolve_gaps);
+    std::vector<Eigen::Vector3d> refine;
+    if (repair.empty() && st.refine_rounds < kRefineRounds) refine = refinement_points(field, dt, facets, pts);
+    if (!repair.empty()) {
+      if (repair_rounds_since_refinement++ == kMaxRounds) break;
+      ++st.repair_rounds;
+      insert_repair_points(repair, dt, pts, st.repair_points);
+    } else if (!refine.empty()) {
+      ++st.refine_rounds;
+      repair_rounds_since_refinement = 0;
+      insert_repair_points(refine, dt, pts, st.refine_points);
+    } else {
+      break;
+    }
   }
   st.cells = int64_t(dt.number_of_finite_cells());
   // Triangles in a canonical order; vertices those used, in the given order.

@@ -7,7 +7,8 @@
 // an even number of facets at each edge; where it has more than two (a sample too thin
 // there), the crossing of the widest such facet's Voronoi edge with the labelling is
 // added as a point (on the interface of the two regions it separates), round by round,
-// as the one-surface triangulation does.
+// as the one-surface triangulation does. Then each facet with an angle under 20 degrees
+// gets the centre of its surface Delaunay ball, for a few rounds, each repaired again.
 #pragma once
 
 #include <Eigen/Dense>
@@ -30,6 +31,7 @@ struct MaterialComplex {
 struct ComplexDelaunayStats {
   int64_t points = 0, cells = 0, facets = 0;
   int64_t repair_points = 0, repair_rounds = 0;
+  int64_t refine_points = 0, refine_rounds = 0;  // points added for facets' angles
   int64_t bad_edges = 0;  // edges of a region's boundary with other than two facets, left
   double seconds = 0;
 };

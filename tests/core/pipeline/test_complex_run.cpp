@@ -5,6 +5,8 @@
 // the one-slice joint with no shared interface.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "cpu/cpu_backend.h"
 #include "io/mesh_io.h"
 #include "multi/complex_figures.h"
@@ -135,6 +137,36 @@ TEST(ComplexRun, JointAcrossOneSliceSharesNoInterface) {
   EXPECT_EQ(m.result.figures.junction_edges, 0);
   EXPECT_LT(m.truth.distance_mean, kDistanceMean);
   EXPECT_LT(m.truth.worst_volume_error, kVolume);
+}
+
+// A scan's cut plane through a structure: tissue (2) in a slab the grid's first slice
+// cuts, a tilted bone rod (1) through it. The cut face is flat, so its particles are as
+// sparse as the sampling allows, while the circle where the rod meets it is sampled at
+// the rod's spacing: the triangles between the two are needles (2.0 degrees, 152 under
+// 10, without the refinement), which the triangulation's refinement grades away.
+TEST(ComplexRun, CutPlaneGradesFromItsJunctionCurve) {
+  Volume v;
+  v.dims = {70, 70, 20};
+  v.spacing = {0.7, 0.7, 1.5};
+  v.voxels.assign(size_t(v.voxel_count()), 0.0f);
+  for (int64_t k = 0; k < v.dims[2]; ++k)
+    for (int64_t j = 0; j < v.dims[1]; ++j)
+      for (int64_t i = 0; i < v.dims[0]; ++i) {
+        const Eigen::Vector3d p = v.index_to_physical({double(i), double(j), double(k)});
+        const double x = p.x() - 24.5, y = p.y() - 24.5;
+        float l = std::hypot(x, y) < 20 ? 2.0f : 0.0f;
+        if (std::hypot(x - 0.2 * p.z(), y - 0.1 * p.z()) < 4) l = 1.0f;
+        v.voxels[size_t(v.index(i, j, k))] = l;
+      }
+  CpuBackend cpu;
+  const pipeline::ComplexResult r = pipeline::run_complex(
+      v, {1, 2}, false, pipeline::RunOptions{}, [&]() -> ComputeBackend& { return cpu; }, nullptr,
+      [](pipeline::LabelRun&) {});
+  for (const multi::RegionFigures& f : r.figures.regions) EXPECT_EQ(f.defects, 0) << "label " << f.label;
+  EXPECT_EQ(r.figures.crossing_pairs, 0);
+  EXPECT_EQ(r.figures.junction_curves, 2);  // the rod's circles on the cut and on the slab's top
+  EXPECT_GT(r.triangulation.refine_points, 0);
+  EXPECT_GE(r.figures.min_angle_deg, 20);  // 20.6 measured
 }
 
 TEST(ComplexRun, ComplexPlyKeepsItsLabelPairs) {
