@@ -31,8 +31,11 @@ void add_complex_summary(report::HtmlPage& page, const ComplexReportInputs& in) 
         fmt::format("{} {} was skipped: {}", r.from_mesh ? "Part" : "Label", s.label, s.reason)));
   page.paragraph(report::escape_html(fmt::format(
       "Junction curves (where three or more regions meet): {} curves of {} edges, {:.1f} mm in all. Triangle pairs "
-      "that cross: {}. Closed shells removed (away from the data, or thinner than the fit resolves): {}.",
-      f.junction_curves, f.junction_edges, f.junction_length_mm, f.crossing_pairs, r.shells_removed)));
+      "that cross: {}. Closed shells removed (away from the data, or thinner than the fit resolves): {}. Pieces of "
+      "a label smaller than the scan resolves, merged into the neighbour they share the most area with: {} "
+      "({:.2f} mm3 in all).",
+      f.junction_curves, f.junction_edges, f.junction_length_mm, f.crossing_pairs, r.shells_removed, r.specks.merged,
+      r.specks.volume_mm3)));
 }
 
 // A label's tetrahedra: how many, their volume, smallest dihedral overall, next to the

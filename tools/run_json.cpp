@@ -293,6 +293,7 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
             {"min_angle_after_deg", r.optimization.min_angle_after_deg},
             {"reverted", r.optimization.reverted},
             {"seconds", r.optimization.seconds}}},
+          {"specks", {{"merged", r.specks.merged}, {"volume_mm3", r.specks.volume_mm3}}},
           {"triangulation",
            {{"points", t.points},
             {"repair_points", t.repair_points},

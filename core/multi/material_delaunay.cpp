@@ -144,27 +144,35 @@ int defects_at_edge(const Dt& dt, Cell c, int i, int j, const std::vector<Eigen:
   return n;
 }
 
+// An edge as one of its cells and the two vertices' indices in it.
+struct EdgeRef {
+  uint64_t key;
+  Cell c;
+  int i, j;
+};
+
 // The edges a round looks at: those of the complex's facets on `fresh` cells and those
 // defective at the last look that are still edges, each once, in the order of their
-// vertex ids.
-std::vector<EdgeEnds> edges_to_check(const Dt& dt, const std::vector<Cell>& fresh, const DefectSearch& search) {
-  std::vector<std::pair<uint64_t, EdgeEnds>> keyed;
+// vertex ids. (Finding an edge's cell from its vertices marks cells in the triangulation,
+// so it runs on one thread.)
+std::vector<EdgeRef> edges_to_check(const Dt& dt, const std::vector<Cell>& fresh, const DefectSearch& search) {
+  std::vector<EdgeRef> out;
   for (const Cell c : fresh)
     for (int i = 0; i < 4; ++i) {
       if (region_of(dt, c) == region_of(dt, c->neighbor(i))) continue;
       for (int m = 1; m < 4; ++m)
         for (int n = m + 1; n < 4; ++n) {
-          const Vertex a = c->vertex((i + m) & 3), b = c->vertex((i + n) & 3);
-          keyed.push_back({edge_key(a->info(), b->info()), {a, b}});
+          const int a = (i + m) & 3, b = (i + n) & 3;
+          out.push_back({edge_key(c->vertex(a)->info(), c->vertex(b)->info()), c, a, b});
         }
     }
-  for (const EdgeEnds& e : search.defective) keyed.push_back({edge_key(e.first->info(), e.second->info()), e});
-  std::sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  keyed.erase(std::unique(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first == y.first; }),
-              keyed.end());
-  std::vector<EdgeEnds> out;
-  out.reserve(keyed.size());
-  for (const auto& k : keyed) out.push_back(k.second);
+  for (const EdgeEnds& e : search.defective) {
+    EdgeRef r{edge_key(e.first->info(), e.second->info()), Cell(), 0, 0};
+    if (dt.is_edge(e.first, e.second, r.c, r.i, r.j)) out.push_back(r);
+  }
+  std::sort(out.begin(), out.end(), [](const EdgeRef& x, const EdgeRef& y) { return x.key < y.key; });
+  out.erase(std::unique(out.begin(), out.end(), [](const EdgeRef& x, const EdgeRef& y) { return x.key == y.key; }),
+            out.end());
   return out;
 }
 
@@ -172,22 +180,20 @@ std::vector<EdgeEnds> edges_to_check(const Dt& dt, const std::vector<Cell>& fres
 // order of their vertex ids; `search` updated.
 std::vector<Facet> defective_facets(const Dt& dt, const std::vector<Cell>& fresh, const std::vector<Eigen::Vector3d>& pts,
                                     DefectSearch& search) {
-  const std::vector<EdgeEnds> edges = edges_to_check(dt, fresh, search);
+  const std::vector<EdgeRef> edges = edges_to_check(dt, fresh, search);
   std::vector<std::vector<Facet>> found(edges.size());
   std::vector<int> count(edges.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, edges.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t k = r.begin(); k != r.end(); ++k) {
-      Cell c;
-      int i = 0, j = 0;
-      if (dt.is_edge(edges[k].first, edges[k].second, c, i, j)) count[k] = defects_at_edge(dt, c, i, j, pts, found[k]);
-    }
+    for (size_t k = r.begin(); k != r.end(); ++k)
+      count[k] = defects_at_edge(dt, edges[k].c, edges[k].i, edges[k].j, pts, found[k]);
   });
   search.defective.clear();
   search.count = 0;
   std::vector<Facet> out;
   for (size_t k = 0; k < edges.size(); ++k) {
     if (count[k] == 0) continue;
-    search.defective.push_back(edges[k]);
+    const EdgeRef& e = edges[k];
+    search.defective.push_back({e.c->vertex(e.i), e.c->vertex(e.j)});
     search.count += count[k];
     out.insert(out.end(), found[k].begin(), found[k].end());
   }
@@ -319,20 +325,25 @@ std::vector<Eigen::Vector3d> refinement_points(const MaterialField& field, const
                                                const std::vector<Facet>& facets,
                                                const std::vector<Eigen::Vector3d>& pts) {
   std::vector<std::optional<Eigen::Vector3d>> at(facets.size());
+  std::vector<double> shortest(facets.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, facets.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t f = r.begin(); f != r.end(); ++f) {
       const std::array<Eigen::Vector3d, 3> p = {pts[facets[f].v[0]], pts[facets[f].v[1]], pts[facets[f].v[2]]};
       if (smallest_angle_deg(p) >= kRefineAngleDeg) continue;
       Eigen::Vector3d x;
       if (!dual_crossing(field, dt, facets[f], x)) continue;
-      const Point q = dt.nearest_vertex(Point(x.x(), x.y(), x.z()))->point();
-      const double shortest = std::min({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
-      if ((Eigen::Vector3d(q.x(), q.y(), q.z()) - x).norm() >= 0.5 * shortest) at[f] = x;
+      at[f] = x;
+      shortest[f] = std::min({(p[1] - p[0]).norm(), (p[2] - p[1]).norm(), (p[0] - p[2]).norm()});
     }
   });
+  // The nearest vertex on one thread: the triangulation's point location walks at random.
   std::vector<Eigen::Vector3d> add;
-  for (const auto& x : at)
-    if (x) add.push_back(*x);
+  for (size_t f = 0; f < facets.size(); ++f) {
+    if (!at[f]) continue;
+    const Eigen::Vector3d& x = *at[f];
+    const Point q = dt.nearest_vertex(Point(x.x(), x.y(), x.z()))->point();
+    if ((Eigen::Vector3d(q.x(), q.y(), q.z()) - x).norm() >= 0.5 * shortest[f]) add.push_back(x);
+  }
   return add;
 }
 

@@ -14,6 +14,7 @@
 #include "mesh/topology.h"
 #include "points/mesh_points.h"
 #include "multi/complex_optimize.h"
+#include "multi/complex_specks.h"
 #include "multi/complex_tetrahedralize.h"
 #include "multi/material_field.h"
 
@@ -56,14 +57,16 @@ void add_seeds(const TriangleMesh& m, int source, std::vector<multi::Seed>& out)
     if (spacing[i] > 0) out.push_back({m.vertices[i], spacing[i], source});
 }
 
-// The sampling, the triangulation and the optimisation of the complex of `field` from
-// `seeds` (`resolve_gaps`: multi/material_delaunay.h).
+// The sampling, the triangulation, the specks' merging (pieces under `speck_mm3`;
+// multi/complex_specks.h) and the optimisation of the complex of `field` from `seeds`
+// (`resolve_gaps`: multi/material_delaunay.h).
 void mesh_complex(const multi::MaterialField& field, const std::vector<multi::Seed>& seeds, bool resolve_gaps,
-                  ComputeBackend& backend, Observer& obs, ComplexResult& out) {
+                  double speck_mm3, ComputeBackend& backend, Observer& obs, ComplexResult& out) {
   obs.begin("complex");
   const std::vector<multi::ComplexParticle> particles =
       multi::sample_complex(field, seeds, multi::ComplexSampleOptions{}, backend, &out.sample);
   out.complex = multi::material_delaunay(field, particles, &out.triangulation, resolve_gaps);
+  out.specks = multi::merge_specks(out.complex.mesh, speck_mm3);
   obs.end();
   obs.begin("optimize complex");
   multi::optimize_complex(field, out.complex.mesh, multi::kComplexOptimizeRounds, &out.optimization);
@@ -263,7 +266,7 @@ void assemble_parts(const PartRuns& p, const ContactGroups& c, ComputeBackend& b
     std::vector<multi::Seed> seeds;
     for (const multi::Seed& s : p.seeds)
       if (region[size_t(s.source)] > 0) seeds.push_back({s.p, s.spacing, region[size_t(s.source)]});
-    mesh_complex(multi::MaterialField(labels, fits, p.contact, unions), seeds, /*resolve_gaps=*/true, backend, obs,
+    mesh_complex(multi::MaterialField(labels, fits, p.contact, unions), seeds, /*resolve_gaps=*/true, 0, backend, obs,
                  out);
   }
   for (size_t k = 0; k < p.labels.size(); ++k)
@@ -357,7 +360,7 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   const multi::RegionSupport support(vol, sorted);
   const multi::MaterialField field(sorted, fit_of, union_run ? &union_run->surface : nullptr, &support,
                                    multi::kLabelDepthVoxels * vol.in_plane_spacing());
-  mesh_complex(field, seeds, /*resolve_gaps=*/false, open_backend(), obs, out);
+  mesh_complex(field, seeds, /*resolve_gaps=*/false, base.speck_voxels * voxel_mm3, open_backend(), obs, out);
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
   fill_complex(base, vol.source, obs, out);

@@ -16,6 +16,7 @@
 #include "multi/complex_figures.h"
 #include "multi/complex_optimize.h"
 #include "multi/complex_sampling.h"
+#include "multi/complex_specks.h"
 #include "multi/material_delaunay.h"
 #include "pipeline/label_runs.h"
 
@@ -38,6 +39,9 @@ struct ComplexResult {
   multi::MaterialComplex complex;
   multi::ComplexSampleStats sample;
   multi::ComplexDelaunayStats triangulation;
+  // A label map's pieces of a label under its specks' bound (RunOptions::speck_voxels),
+  // each merged into a neighbour (multi/complex_specks.h).
+  multi::SpeckStats specks;
   multi::ComplexOptimizeStats optimization;
   multi::ComplexFigures figures;
   // RunOptions::volume_mesh: one volume mesh of the complex, a region per label

@@ -53,22 +53,29 @@ Volume sphere_volume(std::array<int64_t, 3> dims, Eigen::Vector3d spacing, Eigen
   return v;
 }
 
-Volume LabelPhantom::volume() const {
+Volume label_volume(std::array<int64_t, 3> dims, Eigen::Vector3d spacing,
+                    const std::function<float(const Eigen::Vector3d&)>& label) {
   Volume v;
-  v.dims = {84, 46, 22};
-  v.spacing = {0.8, 0.8, 1.6};
+  v.dims = dims;
+  v.spacing = spacing;
   v.voxels.assign(size_t(v.voxel_count()), 0.0f);
   for (int64_t k = 0; k < v.dims[2]; ++k)
     for (int64_t j = 0; j < v.dims[1]; ++j)
-      for (int64_t i = 0; i < v.dims[0]; ++i) {
-        const Eigen::Vector3d p = v.index_to_physical(Eigen::Vector3d(double(i), double(j), double(k)));
-        const Eigen::Vector3d q = p - centre;
-        float& x = v.voxels[size_t(v.index(i, j, k))];
-        if (q.cwiseQuotient(radii).squaredNorm() <= 1) x = q.dot(cut_normal) < 0 ? 1.0f : 2.0f;
-        if ((p - ball_centre).norm() <= ball_radius) x = 3.0f;
-        const double r = (p - nest_centre).norm();
-        if (r <= nest_radius) x = r <= core_radius ? 5.0f : 6.0f;
-      }
+      for (int64_t i = 0; i < v.dims[0]; ++i)
+        v.voxels[size_t(v.index(i, j, k))] = label(v.index_to_physical(Eigen::Vector3d(double(i), double(j), double(k))));
+  return v;
+}
+
+Volume LabelPhantom::volume() const {
+  Volume v = label_volume({84, 46, 22}, {0.8, 0.8, 1.6}, [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = p - centre;
+    float x = 0;
+    if (q.cwiseQuotient(radii).squaredNorm() <= 1) x = q.dot(cut_normal) < 0 ? 1.0f : 2.0f;
+    if ((p - ball_centre).norm() <= ball_radius) x = 3.0f;
+    const double r = (p - nest_centre).norm();
+    if (r <= nest_radius) x = r <= core_radius ? 5.0f : 6.0f;
+    return x;
+  });
   v.voxels[size_t(v.index(55, 40, 3))] = v.voxels[size_t(v.index(56, 40, 3))] = 4.0f;
   v.source = "label phantom";
   return v;

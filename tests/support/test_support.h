@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -27,6 +28,10 @@ std::unique_ptr<vk::VulkanBackend> try_vulkan(std::string& why);
 
 // Expects that the backend's validation layer reported nothing.
 void expect_no_validation_messages(vk::VulkanBackend& b);
+
+// A label map of `dims` voxels of `spacing` (origin 0) whose voxel at p holds label(p).
+Volume label_volume(std::array<int64_t, 3> dims, Eigen::Vector3d spacing,
+                    const std::function<float(const Eigen::Vector3d&)>& label);
 
 // A ball of radius r (mm) at `centre`, smooth intensity: 1000 at the centre side of the
 // surface, -1000 outside, linear across one voxel, so the 0 isosurface is the sphere.
