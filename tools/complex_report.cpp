@@ -51,11 +51,13 @@ std::vector<std::string> tet_cells(const TetStats& st, int64_t label) {
 }
 
 // Per label: its boundary's triangles, enclosed volume against its reference (voxels or
-// the input part), closedness, pieces; with a volume mesh, its tetrahedra.
+// the input part), closedness, pieces, wedges at junction curves (a tetrahedron there is
+// no better); with a volume mesh, its tetrahedra.
 void add_label_table(report::HtmlPage& page, const pipeline::ComplexResult& r) {
   const std::string against = r.from_mesh ? "input part's volume" : "voxels' volume";
   std::vector<std::string> header = {r.from_mesh ? "part" : "label", "triangles", "enclosed volume", against,
-                                     "difference", "closed oriented manifold", "open edges", "pieces"};
+                                     "difference", "closed oriented manifold", "open edges", "pieces",
+                                     "smallest wedge at junctions", "wedges under 10°"};
   if (r.volume)
     header.insert(header.end(), {"tetrahedra", "tetrahedra's volume", "smallest dihedral", "at its interfaces",
                                  "at junction curves", "mean radius ratio"});
@@ -71,7 +73,9 @@ void add_label_table(report::HtmlPage& page, const pipeline::ComplexResult& r) {
                                       fmt::format("{:+.2f}%", diff),
                                       yes_no(x.defects == 0),
                                       fmt::format("{}", x.defects),
-                                      fmt::format("{}", x.components)};
+                                      fmt::format("{}", x.components),
+                                      x.min_wedge_deg < 360 ? fmt::format("{:.2f}°", x.min_wedge_deg) : "-",
+                                      fmt::format("{}", x.wedges_under_10)};
       if (r.volume) {
         const std::vector<std::string> tets = tet_cells(r.volume->stats, g.label);
         row.insert(row.end(), tets.begin(), tets.end());

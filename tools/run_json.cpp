@@ -247,7 +247,9 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
                   {"triangles", x.triangles},
                   {"closed", x.defects == 0},
                   {"open_edges", x.defects},
-                  {"components", x.components}});
+                  {"components", x.components},
+                  {"min_wedge_deg", x.min_wedge_deg},
+                  {"wedges_under_10_deg", x.wedges_under_10}});
     if (r.volume)  // the tetrahedra's volume against the same reference
       for (const LabelTetFigures& t : r.volume->stats.labels)
         if (t.label == g.label)

@@ -4,6 +4,7 @@
 #include <map>
 #include <numeric>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
@@ -73,9 +74,55 @@ std::vector<std::array<uint32_t, 2>> junction_edges(const TriangleMesh& c) {
   return out;
 }
 
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The angle inside the region at edge u-v between its boundary triangles (outward
+// normals n1, n2) whose third vertices are w1, w2.
+double wedge_deg(const std::vector<Eigen::Vector3d>& V, uint32_t u, uint32_t v, uint32_t w1, uint32_t w2,
+                 const Eigen::Vector3d& n1) {
+  const Eigen::Vector3d e = (V[v] - V[u]).normalized();
+  auto across = [&](uint32_t w) {
+    Eigen::Vector3d x = V[w] - V[u];
+    return Eigen::Vector3d((x - e * e.dot(x)).normalized());
+  };
+  const Eigen::Vector3d a = across(w1), b = across(w2);
+  const double phi = std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / kPi;
+  return -n1.dot(b) >= 0 ? phi : 360 - phi;
+}
+
+// The region's wedges at the junction edges (`junction`: their keys): RegionFigures.
+void measure_wedges(const TriangleMesh& boundary, const std::unordered_set<uint64_t>& junction, RegionFigures& f) {
+  struct Side {
+    uint32_t t, third;
+  };
+  std::unordered_map<uint64_t, std::vector<Side>> at;
+  for (uint32_t t = 0; t < boundary.triangles.size(); ++t)
+    for (size_t k = 0; k < 3; ++k) {
+      const auto& tri = boundary.triangles[t];
+      const uint64_t key = edge_key(tri[k], tri[(k + 1) % 3]);
+      if (junction.count(key)) at[key].push_back({t, tri[(k + 2) % 3]});
+    }
+  const auto& V = boundary.vertices;
+  for (const auto& [key, sides] : at) {
+    if (sides.size() != 2) continue;
+    const auto& t = boundary.triangles[sides[0].t];
+    const Eigen::Vector3d n1 = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).normalized();
+    const double w = wedge_deg(V, uint32_t(key >> 32), uint32_t(key), sides[0].third, sides[1].third, n1);
+    f.min_wedge_deg = std::min(f.min_wedge_deg, w);
+    f.wedges_under_10 += w < 10;
+  }
+}
+
+}  // namespace
+
 ComplexFigures measure_complex(const TriangleMesh& c, bool crossings) {
   ComplexFigures out;
   const auto& V = c.vertices;
+  const std::vector<std::array<uint32_t, 2>> jedges = junction_edges(c);
+  std::unordered_set<uint64_t> junction;
+  for (const auto& e : jedges) junction.insert(edge_key(e[0], e[1]));
   for (const int64_t label : complex_labels(c)) {
     if (label == 0) continue;
     const TriangleMesh b = label_boundary(c, label);
@@ -86,9 +133,9 @@ ComplexFigures measure_complex(const TriangleMesh& c, bool crossings) {
     f.volume_mm3 = enclosed_volume(b);
     f.defects = defects_of(t);
     f.components = t.components;
+    measure_wedges(b, junction, f);
     out.regions.push_back(f);
   }
-  const std::vector<std::array<uint32_t, 2>> jedges = junction_edges(c);
   std::vector<char> at_junction(V.size(), 0);
   Sets sets(V.size());
   for (const auto& e : jedges) {

@@ -17,6 +17,11 @@ struct RegionFigures {
   double volume_mm3 = 0;   // enclosed by its boundary, oriented out of it
   int64_t defects = 0;     // edges of its boundary not closed and oriented (0: closed manifold)
   int64_t components = 0;  // connected pieces of its boundary
+  // At the junction edges, the angle inside the region between its two boundary
+  // triangles (its wedge; degrees): a tetrahedron of the region on that edge has a
+  // dihedral angle no larger. The smallest, and how many are under 10 degrees.
+  double min_wedge_deg = 360;
+  int64_t wedges_under_10 = 0;
 };
 
 struct InterfaceFigures {

@@ -29,6 +29,13 @@ TEST(ComplexSpecks, FigureOfTheHandBuiltComplex) {
   EXPECT_EQ(f.regions[1].defects, 0);
   EXPECT_NEAR(f.regions[0].volume_mm3, 1000.0 / 6, 1e-9);
   EXPECT_NEAR(f.regions[1].volume_mm3, 50 * 0.01 / 3, 1e-9);
+  // The wedges at the junction edges ab, bc, ca: label 1's the corner tetrahedron's
+  // dihedral angles (90, acos(1/sqrt 3) = 54.74, 90 degrees), the speck's the slope of its
+  // faces, atan(0.01 / 3.333) = 0.172 at ab and ca and atan(0.01 / 2.357) = 0.243 at bc.
+  EXPECT_NEAR(f.regions[0].min_wedge_deg, 54.7356, 1e-3);
+  EXPECT_EQ(f.regions[0].wedges_under_10, 0);
+  EXPECT_NEAR(f.regions[1].min_wedge_deg, 0.17189, 1e-4);
+  EXPECT_EQ(f.regions[1].wedges_under_10, 3);
 }
 
 // The speck shares 50 mm² with label 1 and a little more with the background, so it goes
@@ -46,6 +53,7 @@ TEST(ComplexSpecks, SpeckGoesToTheRegionItSharesMostWith) {
   ASSERT_EQ(f.regions.size(), 1u);
   EXPECT_EQ(f.regions[0].defects, 0);
   EXPECT_NEAR(f.regions[0].volume_mm3, 1000.0 / 6, 1e-9);
+  EXPECT_EQ(f.regions[0].min_wedge_deg, 360);  // no junction left
 }
 
 // A piece at or above the bound, and a bound of 0, leave the complex as it is.

@@ -113,6 +113,8 @@ TEST(ComplexRun, SplitBallSharesItsDiscAndMeetsAlongTheCircle) {
   EXPECT_LT(m.truth.junction_p95, 0.3);
   EXPECT_LT(m.truth.junction_cover_p95, 0.3);
   EXPECT_GT(m.result.sample.junction_particles, 20);
+  // Each half's two faces meet at the circle at 90 degrees; within 5 (86.4 and 87.2 measured).
+  for (const multi::RegionFigures& r : m.result.figures.regions) EXPECT_NEAR(r.min_wedge_deg, 90, 5) << r.label;
   EXPECT_LT(m.truth.normal_mean_away_deg, 2.5);
   // Every face, next to the circle too: mean within 2 and p95 within 5 degrees (1.34 and
   // 3.65 measured).
@@ -129,6 +131,9 @@ TEST(ComplexRun, SectorsMeetAlongTheAxisSeamsAndRadii) {
   EXPECT_LT(m.truth.worst_volume_error, kVolume);
   EXPECT_LT(m.truth.junction_p95, 0.4);
   EXPECT_LT(m.truth.junction_cover_p95, 0.4);
+  // The sectors' faces meet at 90 degrees at least (120 at the axis); the union's rounded
+  // rims take up to 15 off that (78.3-78.8 measured).
+  for (const multi::RegionFigures& r : m.result.figures.regions) EXPECT_GT(r.min_wedge_deg, 75) << r.label;
 }
 
 TEST(ComplexRun, JointAcrossOneSliceSharesNoInterface) {
