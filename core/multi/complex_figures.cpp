@@ -78,8 +78,8 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The angle inside the region at edge u-v between its boundary triangles (outward
-// normals n1, n2) whose third vertices are w1, w2.
+// The angle inside the region at edge u-v between its two boundary triangles, whose third
+// vertices are w1 and w2 (n1: the first one's outward normal).
 double wedge_deg(const std::vector<Eigen::Vector3d>& V, uint32_t u, uint32_t v, uint32_t w1, uint32_t w2,
                  const Eigen::Vector3d& n1) {
   const Eigen::Vector3d e = (V[v] - V[u]).normalized();

@@ -126,7 +126,7 @@ int defects_at_edge(const Dt& dt, Cell c, int i, int j, const std::vector<Eigen:
     const int at = from_a ? ia : b->index(a);
     Facet f{lower, at, {}, {std::min(ra, rb), std::max(ra, rb)}};
     for (int m = 0; m < 3; ++m) f.v[size_t(m)] = lower->vertex((at + 1 + m) & 3)->info();
-    std::sort(f.v.begin(), f.v.end());
+    std::sort(f.v.begin(), f.v.end());  // here a key (the repair needs no orientation)
     const double area = (pts[f.v[1]] - pts[f.v[0]]).cross(pts[f.v[2]] - pts[f.v[0]]).norm();
     for (const int r : {ra, rb}) {
       auto u = std::find_if(uses.begin(), uses.end(), [&](const Use& x) { return x.region == r; });

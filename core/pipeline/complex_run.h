@@ -4,7 +4,8 @@
 // labelling of space from the fits within each region's voxel support
 // (multi/material_field.h, multi/region_support.h), the junctions and interfaces sampled
 // from the labels' samples (multi/complex_sampling.h), one restricted Delaunay
-// triangulation of them (multi/material_delaunay.h), its triangles made better shaped
+// triangulation of them (multi/material_delaunay.h), a label map's specks merged into a
+// neighbour (multi/complex_specks.h), its triangles made better shaped
 // (multi/complex_optimize.h), measured (multi/complex_figures.h).
 // A surface mesh of several parts is remeshed the same way, a part for a label.
 #pragma once
