@@ -2,30 +2,16 @@
 
 #include <algorithm>
 #include <map>
-#include <numeric>
 #include <unordered_map>
 #include <unordered_set>
 
+#include "common/disjoint_sets.h"
+#include "geometry/angle.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/quality.h"
 #include "mesh/topology.h"
 
 namespace mpumesh::multi {
-namespace {
-
-// Union-find over vertex ids.
-struct Sets {
-  std::vector<uint32_t> up;
-  explicit Sets(size_t n) : up(n) { std::iota(up.begin(), up.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (up[x] != x) x = up[x] = up[up[x]];
-    return x;
-  }
-  void join(uint32_t a, uint32_t b) { up[find(a)] = find(b); }
-};
-
-}  // namespace
-
 std::vector<int64_t> complex_labels(const TriangleMesh& c) {
   std::vector<int64_t> out;
   for (const auto& l : c.face_labels) {
@@ -88,7 +74,7 @@ double wedge_deg(const std::vector<Eigen::Vector3d>& V, uint32_t u, uint32_t v, 
     return Eigen::Vector3d((x - e * e.dot(x)).normalized());
   };
   const Eigen::Vector3d a = across(w1), b = across(w2);
-  const double phi = std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / kPi;
+  const double phi = angle_between(a, b) * 180 / kPi;
   return -n1.dot(b) >= 0 ? phi : 360 - phi;
 }
 
@@ -137,7 +123,7 @@ ComplexFigures measure_complex(const TriangleMesh& c, bool crossings) {
     out.regions.push_back(f);
   }
   std::vector<char> at_junction(V.size(), 0);
-  Sets sets(V.size());
+  DisjointSets sets(V.size());
   for (const auto& e : jedges) {
     out.junction_length_mm += (V[e[0]] - V[e[1]]).norm();
     at_junction[e[0]] = at_junction[e[1]] = 1;

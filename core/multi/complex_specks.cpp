@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <map>
-#include <numeric>
 #include <optional>
 
+#include "common/disjoint_sets.h"
 #include "geometry/drop_unused.h"
 
 namespace mpumesh::multi {
@@ -19,11 +19,6 @@ struct Piece {
   double volume_mm3 = 0;  // enclosed, the triangles oriented out of the label
   std::vector<std::pair<uint32_t, int>> sides;
 };
-
-uint32_t root_of(std::vector<uint32_t>& parent, uint32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
-}
 
 // Every label's pieces (not the background's): the triangles' sides of one label joined
 // across the edges they share.
@@ -46,18 +41,16 @@ std::vector<Piece> pieces_of(const TriangleMesh& m) {
   tbb::parallel_sort(keys.begin(), keys.end(), [](const Key& a, const Key& b) {
     return a.edge != b.edge ? a.edge < b.edge : a.label != b.label ? a.label < b.label : a.side < b.side;
   });
-  std::vector<uint32_t> parent(2 * n);
-  std::iota(parent.begin(), parent.end(), 0u);
+  DisjointSets sides(2 * n);
   for (size_t k = 1; k < keys.size(); ++k)
-    if (keys[k].edge == keys[k - 1].edge && keys[k].label == keys[k - 1].label)
-      parent[root_of(parent, keys[k].side)] = root_of(parent, keys[k - 1].side);
+    if (keys[k].edge == keys[k - 1].edge && keys[k].label == keys[k - 1].label) sides.join(keys[k].side, keys[k - 1].side);
   std::vector<Piece> pieces;
   std::vector<uint32_t> piece_of(2 * n, UINT32_MAX);
   for (uint32_t t = 0; t < n; ++t)
     for (int s = 0; s < 2; ++s) {
       const int32_t label = m.face_labels[t][size_t(s)];
       if (label == 0) continue;
-      const uint32_t r = root_of(parent, 2 * t + uint32_t(s));
+      const uint32_t r = sides.find(2 * t + uint32_t(s));
       if (piece_of[r] == UINT32_MAX) {
         piece_of[r] = uint32_t(pieces.size());
         pieces.push_back({label, 0, {}});

@@ -14,6 +14,7 @@
 
 #include "common/error.h"
 #include "mesh/circumcentre.h"
+#include "mesh/quality.h"
 
 namespace mpumesh::multi {
 namespace {
@@ -298,19 +299,9 @@ std::vector<Eigen::Vector3d> repair_points(const MaterialField& field, const Dt&
   return add;
 }
 
-constexpr double kPi = 3.14159265358979323846;
 // Facets with a smaller angle than this are refined, for at most this many rounds.
 constexpr double kRefineAngleDeg = 20;
 constexpr int kRefineRounds = 8;
-
-double smallest_angle_deg(const std::array<Eigen::Vector3d, 3>& p) {
-  double m = kPi;
-  for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d u = p[size_t((k + 1) % 3)] - p[size_t(k)], v = p[size_t((k + 2) % 3)] - p[size_t(k)];
-    m = std::min(m, std::atan2(u.cross(v).norm(), u.dot(v)));
-  }
-  return m * 180 / kPi;
-}
 
 // The points a refinement round adds: for each facet with an angle below kRefineAngleDeg,
 // the centre of its surface Delaunay ball (its dual edge's crossing with the labelling),
@@ -329,7 +320,7 @@ std::vector<Eigen::Vector3d> refinement_points(const MaterialField& field, const
   tbb::parallel_for(tbb::blocked_range<size_t>(0, facets.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t f = r.begin(); f != r.end(); ++f) {
       const std::array<Eigen::Vector3d, 3> p = {pts[facets[f].v[0]], pts[facets[f].v[1]], pts[facets[f].v[2]]};
-      if (smallest_angle_deg(p) >= kRefineAngleDeg) continue;
+      if (!triangle_min_angle_below(p[0], p[1], p[2], kRefineAngleDeg)) continue;
       Eigen::Vector3d x;
       if (!dual_crossing(field, dt, facets[f], x)) continue;
       at[f] = x;
@@ -347,15 +338,16 @@ std::vector<Eigen::Vector3d> refinement_points(const MaterialField& field, const
   return add;
 }
 
-// A round's repair points inserted, each but those nearer to a point inserted before it
-// in the round than half their distance to every vertex that was there: several
+// A round's repair or refinement points inserted (`count` counts them), each but those
+// nearer to a point inserted before it in the round than half their distance to every
+// vertex that was there: several
 // defective edges side by side would each get a point, a fraction of the spacing apart,
 // and the slivers between them could stay (the complex's optimisation moves a vertex
 // only where its smallest angle rises). A point left out comes back in the next round
 // where its edge is still defective. (Waiting for every point nearer than the whole
 // distance leaves a thin gap's defects to later rounds that bridge it: on the joint
 // phantom a facet between the ball and the cup.)
-void insert_repair_points(const std::vector<Eigen::Vector3d>& add, Dt& dt, std::vector<Eigen::Vector3d>& pts,
+void insert_round_points(const std::vector<Eigen::Vector3d>& add, Dt& dt, std::vector<Eigen::Vector3d>& pts,
                           int64_t& count) {
   std::vector<double> clearance(add.size());
   for (size_t k = 0; k < add.size(); ++k) {
@@ -408,11 +400,11 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
     if (!repair.empty()) {
       if (repair_rounds_since_refinement++ == kMaxRounds) break;
       ++st.repair_rounds;
-      insert_repair_points(repair, dt, pts, st.repair_points);
+      insert_round_points(repair, dt, pts, st.repair_points);
     } else if (!refine.empty()) {
       ++st.refine_rounds;
       repair_rounds_since_refinement = 0;
-      insert_repair_points(refine, dt, pts, st.refine_points);
+      insert_round_points(refine, dt, pts, st.refine_points);
     } else {
       break;
     }
