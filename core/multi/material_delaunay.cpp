@@ -280,13 +280,14 @@ bool passes_through_third(const MaterialField& field, const Dt& dt, const Facet&
 // (`defective`), the labelling's crossing on its dual edge; with `resolve_gaps`, for each
 // facet between two labels whose dual edge passes through a third region, the crossings
 // from both ends, one on each label's side of the gap.
-std::vector<Eigen::Vector3d> repair_points(const MaterialField& field, const Dt& dt, const std::vector<Facet>& facets,
-                                           const std::vector<Facet>& defective, bool resolve_gaps) {
+std::vector<Eigen::Vector3d> repair_points(const MaterialField& field, const Dt& dt, const std::vector<Facet>& defective,
+                                           bool resolve_gaps) {
   std::vector<Eigen::Vector3d> add;
   Eigen::Vector3d x;
   for (const Facet& f : defective)
     if (dual_crossing(field, dt, f, x)) add.push_back(x);
   if (!resolve_gaps) return add;
+  const std::vector<Facet> facets = complex_facets(dt);
   std::vector<char> gap(facets.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, facets.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t f = r.begin(); f != r.end(); ++f) gap[f] = passes_through_third(field, dt, facets[f]);
@@ -386,17 +387,16 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
   }
   Dt dt;
   dt.insert(in.begin(), in.end());
-  std::vector<Facet> facets;
   DefectSearch search;
   int repair_rounds_since_refinement = 0;
   for (;;) {
     const std::vector<Cell> fresh = label_new_cells(field, dt);
-    facets = complex_facets(dt);
     const std::vector<Facet> defective = defective_facets(dt, fresh, pts, search);
     st.bad_edges = search.count;
-    const std::vector<Eigen::Vector3d> repair = repair_points(field, dt, facets, defective, resolve_gaps);
+    const std::vector<Eigen::Vector3d> repair = repair_points(field, dt, defective, resolve_gaps);
     std::vector<Eigen::Vector3d> refine;
-    if (repair.empty() && st.refine_rounds < kRefineRounds) refine = refinement_points(field, dt, facets, pts);
+    if (repair.empty() && st.refine_rounds < kRefineRounds)
+      refine = refinement_points(field, dt, complex_facets(dt), pts);
     if (!repair.empty()) {
       if (repair_rounds_since_refinement++ == kMaxRounds) break;
       ++st.repair_rounds;
@@ -410,6 +410,7 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
     }
   }
   st.cells = int64_t(dt.number_of_finite_cells());
+  std::vector<Facet> facets = complex_facets(dt);
   // Triangles in a canonical order; vertices those used, in the given order.
   for (Facet& f : facets) std::rotate(f.v.begin(), std::min_element(f.v.begin(), f.v.end()), f.v.end());
   std::sort(facets.begin(), facets.end(), [](const Facet& a, const Facet& b) {
