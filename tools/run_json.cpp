@@ -302,6 +302,8 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
             {"repair_rounds", t.repair_rounds},
             {"refine_points", t.refine_points},
             {"refine_rounds", t.refine_rounds},
+            {"trimmed_cells", t.trimmed_cells},
+            {"trim_rounds", t.trim_rounds},
             {"open_edges_left", t.bad_edges},
             {"seconds", t.seconds}}},
           {"seconds",

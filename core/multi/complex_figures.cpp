@@ -64,20 +64,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The angle inside the region at edge u-v between its two boundary triangles, whose third
-// vertices are w1 and w2 (n1: the first one's outward normal).
-double wedge_deg(const std::vector<Eigen::Vector3d>& V, uint32_t u, uint32_t v, uint32_t w1, uint32_t w2,
-                 const Eigen::Vector3d& n1) {
-  const Eigen::Vector3d e = (V[v] - V[u]).normalized();
-  auto across = [&](uint32_t w) {
-    Eigen::Vector3d x = V[w] - V[u];
-    return Eigen::Vector3d((x - e * e.dot(x)).normalized());
-  };
-  const Eigen::Vector3d a = across(w1), b = across(w2);
-  const double phi = angle_between(a, b) * 180 / kPi;
-  return -n1.dot(b) >= 0 ? phi : 360 - phi;
-}
-
 // The region's wedges at the junction edges (`junction`: their keys): RegionFigures.
 void measure_wedges(const TriangleMesh& boundary, const std::unordered_set<uint64_t>& junction, RegionFigures& f) {
   struct Side {
@@ -95,7 +81,8 @@ void measure_wedges(const TriangleMesh& boundary, const std::unordered_set<uint6
     if (sides.size() != 2) continue;
     const auto& t = boundary.triangles[sides[0].t];
     const Eigen::Vector3d n1 = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).normalized();
-    const double w = wedge_deg(V, uint32_t(key >> 32), uint32_t(key), sides[0].third, sides[1].third, n1);
+    const double w =
+        wedge_angle(V[key >> 32], V[uint32_t(key)], V[sides[0].third], V[sides[1].third], n1) * 180 / kPi;
     f.min_wedge_deg = std::min(f.min_wedge_deg, w);
     f.wedges_under_10 += w < 10;
   }

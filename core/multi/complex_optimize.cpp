@@ -8,11 +8,14 @@
 #include <map>
 #include <optional>
 #include <set>
+#include <span>
 #include <unordered_set>
 
 #include "geometry/angle.h"
+#include "geometry/vertex_faces.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/edge_faces.h"
+#include "multi/thin_wedges.h"
 
 namespace mpumesh::multi {
 namespace {
@@ -47,9 +50,66 @@ struct Complex {
   std::vector<Pair> pair;  // regions, ascending
 };
 
+// The triangles around each vertex as a pass changes them: those at the pass's start and
+// those a flip brought to it since. A flip keeps its two triangles' slots, so a slot that
+// left a vertex stays listed and is told apart by its vertices.
+struct LiveFans {
+  VertexFaces start;
+  std::unordered_map<uint32_t, std::vector<uint32_t>> gained;
+
+  explicit LiveFans(const Complex& c)
+      : start(vertex_faces(c.V.size(), c.T.size(), [&](size_t f) { return c.T[f]; })) {}
+
+  // The triangles at edge p-q now.
+  std::vector<uint32_t> at_edge(const Complex& c, uint32_t p, uint32_t q) const {
+    std::vector<uint32_t> out;
+    auto take = [&](uint32_t f) {
+      const Tri& t = c.T[f];
+      const bool has_p = t[0] == p || t[1] == p || t[2] == p, has_q = t[0] == q || t[1] == q || t[2] == q;
+      if (has_p && has_q && std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+    };
+    for (uint32_t f : start[p]) take(f);
+    if (const auto it = gained.find(p); it != gained.end())
+      for (uint32_t f : it->second) take(f);
+    return out;
+  }
+};
+
+// The smallest angle inside a region other than the background at edge p-q between its two
+// triangles there (radians; 2 pi where no region has two): the region's wedge, which
+// bounds its tetrahedra's dihedral angles there (multi/thin_wedges.h).
+double least_wedge(const Complex& c, const LiveFans& fans, uint32_t p, uint32_t q) {
+  const std::vector<uint32_t> faces = fans.at_edge(c, p, q);
+  double least = 2 * kPi;
+  for (size_t i = 0; i < faces.size(); ++i)
+    for (const int r : c.pair[faces[i]]) {
+      if (r == 0) continue;
+      std::vector<uint32_t> two;
+      for (uint32_t f : faces)
+        if (c.pair[f][0] == r || c.pair[f][1] == r) two.push_back(f);
+      if (two.size() != 2 || two[0] != faces[i]) continue;
+      auto third = [&](uint32_t f) {
+        for (uint32_t v : c.T[f])
+          if (v != p && v != q) return v;
+        return p;
+      };
+      const Eigen::Vector3d n = normal_of(c.V, c.T[two[0]]);
+      const Eigen::Vector3d out = c.pair[two[0]][0] == r ? n : Eigen::Vector3d(-n);
+      least = std::min(least, wedge_angle(c.V[p], c.V[q], c.V[third(two[0])], c.V[third(two[1])], out));
+    }
+  return least;
+}
+
+// Whether a change that took an edge's least wedge from `before` to `after` is allowed: it
+// takes no wedge under kMinWedgeDeg, or lower where one is under already.
+bool wedge_kept(double before, double after) {
+  return after >= std::min(before, kMinWedgeDeg * kPi / 180);
+}
+
 // Step 1: the flips of one pass, each triangle at most once, none at a frozen vertex.
 int64_t flip_pass(Complex& c, const std::vector<char>& frozen) {
   const EdgeFaces ef(c.T, /*lookup=*/true);
+  LiveFans fans(c);
   std::vector<char> touched(c.T.size(), 0);
   std::unordered_set<uint64_t> made;
   const double coplanar = std::cos(kMaxTurnDeg * kPi / 180);
@@ -78,8 +138,21 @@ int64_t flip_pass(Complex& c, const std::vector<char>& frozen) {
     if (std::min(smallest_angle(c.V, n1), smallest_angle(c.V, n2)) <=
         std::min(smallest_angle(c.V, a), smallest_angle(c.V, b)))
       continue;
+    const Tri was1 = a, was2 = b;
+    const std::array<std::array<uint32_t, 2>, 4> outer = {{{u, w}, {v, w}, {u, x}, {v, x}}};
+    std::array<double, 4> before{};
+    for (size_t k = 0; k < 4; ++k) before[k] = least_wedge(c, fans, outer[k][0], outer[k][1]);
     c.T[f1] = n1;
     c.T[f2] = n2;
+    fans.gained[w].push_back(f2);
+    fans.gained[x].push_back(f1);
+    bool kept = true;
+    for (size_t k = 0; k < 4 && kept; ++k) kept = wedge_kept(before[k], least_wedge(c, fans, outer[k][0], outer[k][1]));
+    if (!kept) {
+      c.T[f1] = was1;
+      c.T[f2] = was2;
+      continue;
+    }
     touched[f1] = touched[f2] = 1;
     made.insert(edge_key(w, x));
     ++flips;
@@ -87,49 +160,33 @@ int64_t flip_pass(Complex& c, const std::vector<char>& frozen) {
   return flips;
 }
 
-// Each vertex's triangles (CSR), and its pair where all of them have one (else held).
-struct Fans {
-  std::vector<uint32_t> first, faces;
-  std::vector<std::optional<Pair>> pair;
-};
-
-Fans fans_of(const Complex& c) {
-  Fans f;
-  const size_t n = c.V.size();
-  f.first.assign(n + 1, 0);
-  for (const Tri& t : c.T)
-    for (uint32_t v : t) ++f.first[v + 1];
-  for (size_t i = 0; i < n; ++i) f.first[i + 1] += f.first[i];
-  f.faces.resize(f.first[n]);
-  std::vector<uint32_t> at(f.first.begin(), f.first.end() - 1);
-  for (uint32_t t = 0; t < c.T.size(); ++t)
-    for (uint32_t v : c.T[t]) f.faces[at[v]++] = t;
-  f.pair.resize(n);
-  for (size_t v = 0; v < n; ++v) {
-    if (f.first[v] == f.first[v + 1]) continue;
-    const Pair p = c.pair[f.faces[f.first[v]]];
-    bool one = true;
-    for (uint32_t k = f.first[v]; k < f.first[v + 1]; ++k) one = one && c.pair[f.faces[k]] == p;
-    if (one) f.pair[v] = p;
+// Each vertex's pair where all its triangles have one (else it is held).
+std::vector<std::optional<Pair>> single_pairs(const Complex& c, const VertexFaces& fans) {
+  std::vector<std::optional<Pair>> out(c.V.size());
+  for (size_t v = 0; v < c.V.size(); ++v) {
+    const auto faces = fans[v];
+    if (faces.empty()) continue;
+    const Pair p = c.pair[faces[0]];
+    if (std::all_of(faces.begin(), faces.end(), [&](uint32_t f) { return c.pair[f] == p; })) out[v] = p;
   }
-  return f;
+  return out;
 }
 
 // Where vertex v would go: its triangles' area-weighted centroid, in its tangent plane,
 // then back onto its interface, where that pair stays the two most inside regions.
-std::optional<Eigen::Vector3d> candidate(const MaterialField& field, const Complex& c, const Fans& f, size_t v) {
-  const Pair p = *f.pair[v];
+std::optional<Eigen::Vector3d> candidate(const MaterialField& field, const Complex& c, std::span<const uint32_t> fan,
+                                         const Pair& p, size_t v) {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   double area = 0, edges = 0;
-  for (uint32_t k = f.first[v]; k < f.first[v + 1]; ++k) {
-    const Tri& t = c.T[f.faces[k]];
+  for (uint32_t f : fan) {
+    const Tri& t = c.T[f];
     const double a = 0.5 * (c.V[t[1]] - c.V[t[0]]).cross(c.V[t[2]] - c.V[t[0]]).norm();
     centroid += a * (c.V[t[0]] + c.V[t[1]] + c.V[t[2]]) / 3;
     area += a;
     for (uint32_t u : t) edges += (c.V[u] - c.V[v]).norm();
   }
   if (!(area > 0)) return std::nullopt;
-  const double h = edges / (2.0 * double(f.first[v + 1] - f.first[v]));  // mean edge length
+  const double h = edges / (2.0 * double(fan.size()));  // mean edge length
   const Eigen::Vector3d n = field.interface_normal(c.V[v], p[0], p[1]);
   Eigen::Vector3d d = centroid / area - c.V[v];
   d -= n * n.dot(d);
@@ -140,41 +197,59 @@ std::optional<Eigen::Vector3d> candidate(const MaterialField& field, const Compl
   return q;
 }
 
-// Step 2: the moves of one pass, frozen vertices held.
+// The least wedge at each edge opposite v in its triangles (least_wedge).
+std::vector<double> wedges_opposite(const Complex& c, const LiveFans& fans, uint32_t v) {
+  std::vector<double> out;
+  for (uint32_t f : fans.start[v]) {
+    const Tri& t = c.T[f];
+    const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+    out.push_back(least_wedge(c, fans, t[size_t((k + 1) % 3)], t[size_t((k + 2) % 3)]));
+  }
+  return out;
+}
+
+// Step 2: the moves of one pass, frozen vertices held. A move is kept where no triangle
+// around the vertex turns by more than kMaxTurnDeg, their smallest angle rises and no
+// region's wedge at the edges opposite the vertex falls (wedge_kept).
 int64_t move_pass(const MaterialField& field, Complex& c, const std::vector<char>& frozen) {
-  const Fans f = fans_of(c);
+  const LiveFans fans(c);
+  const std::vector<std::optional<Pair>> pair = single_pairs(c, fans.start);
   const size_t n = c.V.size();
   std::vector<std::optional<Eigen::Vector3d>> cand(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& rg) {
     for (size_t v = rg.begin(); v != rg.end(); ++v)
-      if (f.pair[v] && !frozen[v]) cand[v] = candidate(field, c, f, v);
+      if (pair[v] && !frozen[v]) cand[v] = candidate(field, c, fans.start[v], *pair[v], v);
   });
   const double turn = std::cos(kMaxTurnDeg * kPi / 180);
   int64_t moves = 0;
   std::vector<Eigen::Vector3d> before;
   for (size_t v = 0; v < n; ++v) {
     if (!cand[v]) continue;
+    const auto fan = fans.start[v];
     double old_min = INFINITY;
     before.clear();
-    for (uint32_t k = f.first[v]; k < f.first[v + 1]; ++k) {
-      const Tri& t = c.T[f.faces[k]];
-      old_min = std::min(old_min, smallest_angle(c.V, t));
-      before.push_back(normal_of(c.V, t));
+    for (uint32_t f : fan) {
+      old_min = std::min(old_min, smallest_angle(c.V, c.T[f]));
+      before.push_back(normal_of(c.V, c.T[f]));
     }
     const Eigen::Vector3d old = c.V[v];
     c.V[v] = *cand[v];
     double new_min = INFINITY;
     bool turned = false;
-    for (uint32_t k = f.first[v]; k < f.first[v + 1]; ++k) {
-      const Tri& t = c.T[f.faces[k]];
+    for (size_t k = 0; k < fan.size(); ++k) {
+      const Tri& t = c.T[fan[k]];
       new_min = std::min(new_min, smallest_angle(c.V, t));
-      turned = turned || normal_of(c.V, t).dot(before[k - f.first[v]]) < turn;
+      turned = turned || normal_of(c.V, t).dot(before[k]) < turn;
     }
-    if (turned || !(new_min > old_min)) {
+    bool kept = !turned && new_min > old_min;
+    if (kept) {
+      const std::vector<double> now = wedges_opposite(c, fans, uint32_t(v));
       c.V[v] = old;
-      continue;
+      const std::vector<double> was = wedges_opposite(c, fans, uint32_t(v));
+      for (size_t k = 0; k < now.size() && kept; ++k) kept = wedge_kept(was[k], now[k]);
     }
-    ++moves;
+    c.V[v] = kept ? *cand[v] : old;
+    moves += kept;
   }
   return moves;
 }

@@ -14,6 +14,9 @@
 //    by more than 30° and the smallest angle around it rises. The candidate places are
 //    computed in parallel from the round's positions, the moves decided in vertex order,
 //    so the result does not depend on the threads.
+// Neither a flip nor a move takes a region's wedge at an edge (its angle between its two
+// triangles there, which bounds its tetrahedra's dihedral angles; multi/thin_wedges.h)
+// under 10°, or lower where it is under 10° already.
 // Vertices on a junction curve (triangles of two or more pairs) never move, and no edge
 // of a junction is flipped, so every label's boundary stays the closed oriented manifold
 // it was, with the same junctions. Where changed triangles then intersect others that

@@ -1,10 +1,5 @@
 #include "multi/material_delaunay.h"
 
-#include <CGAL/Delaunay_triangulation_3.h>
-#include <CGAL/Delaunay_triangulation_cell_base_3.h>
-#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
-#include <CGAL/Triangulation_cell_base_with_info_3.h>
-#include <CGAL/Triangulation_vertex_base_with_info_3.h>
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
@@ -15,28 +10,14 @@
 #include "common/error.h"
 #include "mesh/circumcentre.h"
 #include "mesh/quality.h"
+#include "multi/labelled_delaunay.h"
+#include "multi/thin_wedges.h"
 
 namespace mpumesh::multi {
 namespace {
 
-using K = CGAL::Epick;
-using Vb = CGAL::Triangulation_vertex_base_with_info_3<uint32_t, K>;
-constexpr int kUnlabelled = -2;
-// A cell's region (kUnlabelled until its circumcentre is labelled) and, per facet, whether
-// the facet's dual edge was found to pass through no third region (passes_through_third);
-// a new cell starts unlabelled and unchecked.
-struct CellInfo {
-  int region = kUnlabelled;
-  std::array<bool, 4> clear{};
-};
-using Cb = CGAL::Triangulation_cell_base_with_info_3<CellInfo, K, CGAL::Delaunay_triangulation_cell_base_3<K>>;
-using Tds = CGAL::Triangulation_data_structure_3<Vb, Cb>;
-using Dt = CGAL::Delaunay_triangulation_3<K, Tds>;
-using Point = K::Point_3;
-using Cell = Dt::Cell_handle;
+using namespace labelled;
 constexpr int kMaxRounds = 40;
-
-Eigen::Vector3d vec(const Point& p) { return {p.x(), p.y(), p.z()}; }
 
 // The circumcentre from the vertices in id order (the same bits whichever order the cell
 // lists them in).
@@ -45,8 +26,6 @@ Eigen::Vector3d centre(Cell c) {
   std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a->info() < b->info(); });
   return robust_circumcentre(vec(v[0]->point()), vec(v[1]->point()), vec(v[2]->point()), vec(v[3]->point()));
 }
-
-int region_of(const Dt& dt, Cell c) { return dt.is_infinite(c) ? 0 : c->info().region; }
 
 // The cells not labelled yet labelled; they are returned.
 std::vector<Cell> label_new_cells(const MaterialField& field, Dt& dt) {
@@ -87,7 +66,6 @@ std::vector<Facet> complex_facets(const Dt& dt) {
   return out;
 }
 
-using Vertex = Dt::Vertex_handle;
 using EdgeEnds = std::pair<Vertex, Vertex>;
 
 // The boundary edges of a region with other than two facets, each with its widest facet,
@@ -99,17 +77,14 @@ struct DefectSearch {
   int64_t count = 0;                // (region, edge) pairs among them
 };
 
-// Around the edge (c, i, j) the regions of its cells, in turn; a region whose cells there
+// Around the edge e the regions of its cells, in turn; a region whose cells there
 // make more than one run has more than two boundary facets at the edge (a union of
 // cells' boundary is balanced in orientation by construction, so the count alone
 // decides). Each such region's widest facet at the edge goes to `widest`; the count of
 // such regions is returned.
-int defects_at_edge(const Dt& dt, Cell c, int i, int j, const std::vector<Eigen::Vector3d>& pts,
+int defects_at_edge(const Dt& dt, const EdgeRef& e, const std::vector<Eigen::Vector3d>& pts,
                     std::vector<Facet>& widest) {
-  std::vector<Cell> ring;
-  Dt::Cell_circulator cc = dt.incident_cells(c, i, j), done = cc;
-  do ring.push_back(cc);
-  while (++cc != done);
+  const std::vector<Cell> ring = cells_around(dt, e);
   struct Use {
     int region, facets = 0;
     double area = -1;
@@ -145,35 +120,18 @@ int defects_at_edge(const Dt& dt, Cell c, int i, int j, const std::vector<Eigen:
   return n;
 }
 
-// An edge as one of its cells and the two vertices' indices in it.
-struct EdgeRef {
-  uint64_t key;
-  Cell c;
-  int i, j;
-};
-
 // The edges a round looks at: those of the complex's facets on `fresh` cells and those
 // defective at the last look that are still edges, each once, in the order of their
 // vertex ids. (Finding an edge's cell from its vertices marks cells in the triangulation,
 // so it runs on one thread.)
 std::vector<EdgeRef> edges_to_check(const Dt& dt, const std::vector<Cell>& fresh, const DefectSearch& search) {
   std::vector<EdgeRef> out;
-  for (const Cell c : fresh)
-    for (int i = 0; i < 4; ++i) {
-      if (region_of(dt, c) == region_of(dt, c->neighbor(i))) continue;
-      for (int m = 1; m < 4; ++m)
-        for (int n = m + 1; n < 4; ++n) {
-          const int a = (i + m) & 3, b = (i + n) & 3;
-          out.push_back({edge_key(c->vertex(a)->info(), c->vertex(b)->info()), c, a, b});
-        }
-    }
+  add_edges(dt, fresh, false, out);
   for (const EdgeEnds& e : search.defective) {
     EdgeRef r{edge_key(e.first->info(), e.second->info()), Cell(), 0, 0};
     if (dt.is_edge(e.first, e.second, r.c, r.i, r.j)) out.push_back(r);
   }
-  std::sort(out.begin(), out.end(), [](const EdgeRef& x, const EdgeRef& y) { return x.key < y.key; });
-  out.erase(std::unique(out.begin(), out.end(), [](const EdgeRef& x, const EdgeRef& y) { return x.key == y.key; }),
-            out.end());
+  sort_unique(out);
   return out;
 }
 
@@ -186,7 +144,7 @@ std::vector<Facet> defective_facets(const Dt& dt, const std::vector<Cell>& fresh
   std::vector<int> count(edges.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, edges.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t k = r.begin(); k != r.end(); ++k)
-      count[k] = defects_at_edge(dt, edges[k].c, edges[k].i, edges[k].j, pts, found[k]);
+      count[k] = defects_at_edge(dt, edges[k], pts, found[k]);
   });
   search.defective.clear();
   search.count = 0;
@@ -409,6 +367,9 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
       break;
     }
   }
+  const WedgeTrimStats trim = trim_thin_wedges(dt, pts);
+  st.trimmed_cells = trim.cells;
+  st.trim_rounds = trim.rounds;
   st.cells = int64_t(dt.number_of_finite_cells());
   std::vector<Facet> facets = complex_facets(dt);
   // Triangles in a canonical order; vertices those used, in the given order.

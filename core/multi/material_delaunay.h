@@ -9,6 +9,7 @@
 // added as a point (on the interface of the two regions it separates), round by round,
 // as the one-surface triangulation does. Then each facet with an angle under 20 degrees
 // gets the centre of its surface Delaunay ball, for a few rounds, each repaired again.
+// Last, the regions' thin wedges are trimmed (multi/thin_wedges.h).
 #pragma once
 
 #include <Eigen/Dense>
@@ -32,6 +33,7 @@ struct ComplexDelaunayStats {
   int64_t points = 0, cells = 0, facets = 0;
   int64_t repair_points = 0, repair_rounds = 0;
   int64_t refine_points = 0, refine_rounds = 0;  // points added for facets' angles
+  int64_t trimmed_cells = 0, trim_rounds = 0;    // multi/thin_wedges.h
   int64_t bad_edges = 0;  // edges of a region's boundary with other than two facets, left
   double seconds = 0;
 };
