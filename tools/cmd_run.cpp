@@ -265,8 +265,10 @@ void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const vk:
   const multi::ComplexFigures& f = r.figures;
   const char* region = r.from_mesh ? "part" : "label";
   int64_t open_edges = 0;
+  int64_t pinched = 0;
   for (const multi::RegionFigures& g : f.regions) {
     open_edges += g.defects;
+    pinched += g.pinched_vertices;
     if (g.defects > 0 && !common.quiet)
       std::cerr << fmt::format("mpumesh: warning: {} {}'s boundary in the complex has {} edges that are not closed "
                                "and oriented (a sample too sparse there)\n",
@@ -275,10 +277,10 @@ void finish_complex(const RunCli& o, const pipeline::ComplexResult& r, const vk:
   if (!common.json && !common.quiet)
     std::cout << fmt::format(
         "{}: {} {}s, {} triangles, {} interfaces, {} junction curves ({:.1f} mm), smallest angle {:.1f} deg, "
-        "{} crossing pairs, {} shells removed, every {} closed: {}\n",
+        "{} crossing pairs, {} shells removed, every {} closed: {}, pinched vertices: {}\n",
         o.output, f.regions.size(), region, r.complex.mesh.triangles.size(), f.interfaces.size(), f.junction_curves,
         f.junction_length_mm, f.min_angle_deg, f.crossing_pairs, r.shells_removed, region,
-        open_edges == 0 ? "yes" : "no");
+        open_edges == 0 ? "yes" : "no", pinched);
   if (r.volume && !common.json && !common.quiet) std::cout << tet_text(o.volume, r.volume->stats);
   j["stage_seconds"] = stage_seconds_json({}, progress);
   if (!o.report.empty()) write_json_file(j, o.report);

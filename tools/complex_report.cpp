@@ -51,12 +51,12 @@ std::vector<std::string> tet_cells(const TetStats& st, int64_t label) {
 }
 
 // Per label: its boundary's triangles, enclosed volume against its reference (voxels or
-// the input part), closedness, pieces, wedges at junction curves (a tetrahedron there is
+// the input part), closedness, pinched vertices, pieces, wedges at junction curves (a tetrahedron there is
 // no better); with a volume mesh, its tetrahedra.
 void add_label_table(report::HtmlPage& page, const pipeline::ComplexResult& r) {
   const std::string against = r.from_mesh ? "input part's volume" : "voxels' volume";
   std::vector<std::string> header = {r.from_mesh ? "part" : "label", "triangles", "enclosed volume", against,
-                                     "difference", "closed oriented manifold", "open edges", "pieces",
+                                     "difference", "closed oriented manifold", "open edges", "pinched vertices", "pieces",
                                      "smallest wedge at junctions", "wedges under 10°"};
   if (r.volume)
     header.insert(header.end(), {"tetrahedra", "tetrahedra's volume", "smallest dihedral", "at its interfaces",
@@ -71,8 +71,9 @@ void add_label_table(report::HtmlPage& page, const pipeline::ComplexResult& r) {
                                       fmt::format("{:.1f} mm3", x.volume_mm3),
                                       fmt::format("{:.1f} mm3", g.reference_volume_mm3),
                                       fmt::format("{:+.2f}%", diff),
-                                      yes_no(x.defects == 0),
+                                      yes_no(x.defects == 0 && x.pinched_vertices == 0),
                                       fmt::format("{}", x.defects),
+                                      fmt::format("{}", x.pinched_vertices),
                                       fmt::format("{}", x.components),
                                       x.min_wedge_deg < 360 ? fmt::format("{:.2f}°", x.min_wedge_deg) : "-",
                                       fmt::format("{}", x.wedges_under_10)};

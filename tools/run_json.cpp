@@ -248,6 +248,7 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
                   {"closed", x.defects == 0},
                   {"open_edges", x.defects},
                   {"components", x.components},
+                  {"pinched_vertices", x.pinched_vertices},
                   {"min_wedge_deg", x.min_wedge_deg},
                   {"wedges_under_10_deg", x.wedges_under_10}});
     if (r.volume)  // the tetrahedra's volume against the same reference
@@ -305,6 +306,8 @@ nlohmann::json complex_json(const pipeline::ComplexResult& r) {
             {"trimmed_cells", t.trimmed_cells},
             {"trim_rounds", t.trim_rounds},
             {"open_edges_left", t.bad_edges},
+            {"pinched_vertices_found", t.pinches_found},
+            {"pinched_vertices_left", t.pinches},
             {"seconds", t.seconds}}},
           {"seconds",
            {{"labels", r.seconds_labels},

@@ -106,6 +106,7 @@ ComplexFigures measure_complex(const TriangleMesh& c, bool crossings) {
     f.volume_mm3 = enclosed_volume(b);
     f.defects = defects_of(t);
     f.components = t.components;
+    f.pinched_vertices = t.nonmanifold_vertices;
     measure_wedges(b, junction, f);
     out.regions.push_back(f);
   }

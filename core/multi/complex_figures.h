@@ -17,6 +17,10 @@ struct RegionFigures {
   double volume_mm3 = 0;   // enclosed by its boundary, oriented out of it
   int64_t defects = 0;     // edges of its boundary not closed and oriented (0: closed manifold)
   int64_t components = 0;  // connected pieces of its boundary
+  // Vertices where its boundary is not one disc (two fans or more: the region pinched to a
+  // point there, as where a layer thinner than the sample's spacing has its two faces
+  // touch); 0 with no defects: a closed oriented 2-manifold.
+  int64_t pinched_vertices = 0;
   // At the junction edges, the angle inside the region between its two boundary
   // triangles (its wedge; degrees): a tetrahedron of the region on that edge has a
   // dihedral angle no larger. The smallest, and how many are under 10 degrees.

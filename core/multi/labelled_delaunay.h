@@ -56,4 +56,18 @@ void sort_unique(std::vector<EdgeRef>& edges);
 // The cells around an edge, in turn.
 std::vector<Cell> cells_around(const Dt& dt, const EdgeRef& e);
 
+// The cells around v and, by region r, their parts: r's cells and the others', each split
+// into the sets connected through the facets at v. r's boundary at v is one disc when each
+// is one part. (Finding the cells around a vertex marks cells: one thread.)
+struct Star {
+  std::vector<Cell> cells;
+  std::vector<size_t> part;  // each cell's part: the index of its part's first cell
+  int in_parts = 0, out_parts = 0;
+};
+Star star_of(const Dt& dt, Vertex v, int r);
+
+// The regions other than the background whose boundary at v is not one disc (pinched to a
+// point there: two cones touching, or a layer whose two faces touch), ascending.
+std::vector<int> pinched_at(const Dt& dt, Vertex v);
+
 }  // namespace mpumesh::multi::labelled

@@ -17,7 +17,8 @@ namespace mpumesh::multi {
 namespace {
 
 using namespace labelled;
-constexpr int kMaxRounds = 40;
+// Repair rounds allowed at the start and after each refinement round.
+constexpr int kMaxRounds = 100;
 
 // The circumcentre from the vertices in id order (the same bits whichever order the cell
 // lists them in).
@@ -66,6 +67,19 @@ std::vector<Facet> complex_facets(const Dt& dt) {
   return out;
 }
 
+// The facet between cells a and b from its lower region's side, or from its finite one on
+// the hull, its vertices sorted (a key: the repair needs no orientation).
+Facet facet_between(const Dt& dt, Cell a, Cell b) {
+  const int ra = region_of(dt, a), rb = region_of(dt, b);
+  const bool from_a = dt.is_infinite(b) || (!dt.is_infinite(a) && ra < rb);
+  const Cell lower = from_a ? a : b;
+  const int at = from_a ? a->index(b) : b->index(a);
+  Facet f{lower, at, {}, {std::min(ra, rb), std::max(ra, rb)}};
+  for (int m = 0; m < 3; ++m) f.v[size_t(m)] = lower->vertex((at + 1 + m) & 3)->info();
+  std::sort(f.v.begin(), f.v.end());
+  return f;
+}
+
 using EdgeEnds = std::pair<Vertex, Vertex>;
 
 // The boundary edges of a region with other than two facets, each with its widest facet,
@@ -75,6 +89,8 @@ using EdgeEnds = std::pair<Vertex, Vertex>;
 struct DefectSearch {
   std::vector<EdgeEnds> defective;  // the edges found defective at the last look
   int64_t count = 0;                // (region, edge) pairs among them
+  std::vector<Vertex> pinched;      // the vertices found pinched (pinched_at) at the last look
+  int64_t pinches = 0;              // (region, vertex) pairs among them
 };
 
 // Around the edge e the regions of its cells, in turn; a region whose cells there
@@ -95,14 +111,7 @@ int defects_at_edge(const Dt& dt, const EdgeRef& e, const std::vector<Eigen::Vec
     const Cell a = ring[k], b = ring[(k + 1) % ring.size()];
     const int ra = region_of(dt, a), rb = region_of(dt, b);
     if (ra == rb) continue;
-    const int ia = a->index(b);
-    // The facet from its lower region's side, or from its finite one on the hull.
-    const bool from_a = dt.is_infinite(b) || (!dt.is_infinite(a) && ra < rb);
-    const Cell lower = from_a ? a : b;
-    const int at = from_a ? ia : b->index(a);
-    Facet f{lower, at, {}, {std::min(ra, rb), std::max(ra, rb)}};
-    for (int m = 0; m < 3; ++m) f.v[size_t(m)] = lower->vertex((at + 1 + m) & 3)->info();
-    std::sort(f.v.begin(), f.v.end());  // here a key (the repair needs no orientation)
+    const Facet f = facet_between(dt, a, b);
     const double area = (pts[f.v[1]] - pts[f.v[0]]).cross(pts[f.v[2]] - pts[f.v[0]]).norm();
     for (const int r : {ra, rb}) {
       auto u = std::find_if(uses.begin(), uses.end(), [&](const Use& x) { return x.region == r; });
@@ -158,6 +167,46 @@ std::vector<Facet> defective_facets(const Dt& dt, const std::vector<Cell>& fresh
   }
   std::sort(out.begin(), out.end(), [](const Facet& a, const Facet& b) { return a.v < b.v; });
   out.erase(std::unique(out.begin(), out.end(), [](const Facet& a, const Facet& b) { return a.v == b.v; }), out.end());
+  return out;
+}
+
+// The widest facet of each region pinched at the vertices of the kept facets on `fresh`
+// cells and at those pinched before (one thread: finding a vertex's cells marks cells);
+// `search` updated.
+std::vector<Facet> pinch_facets(const Dt& dt, const std::vector<Cell>& fresh, const std::vector<Eigen::Vector3d>& pts,
+                                DefectSearch& search) {
+  std::vector<Vertex> look = search.pinched;
+  for (const Cell c : fresh)
+    for (int i = 0; i < 4; ++i) {
+      if (region_of(dt, c) == region_of(dt, c->neighbor(i))) continue;
+      for (int m = 1; m < 4; ++m) look.push_back(c->vertex((i + m) & 3));
+    }
+  std::sort(look.begin(), look.end(), [](Vertex a, Vertex b) { return a->info() < b->info(); });
+  look.erase(std::unique(look.begin(), look.end()), look.end());
+  search.pinched.clear();
+  search.pinches = 0;
+  std::vector<Facet> out;
+  for (const Vertex v : look) {
+    const std::vector<int> regions = pinched_at(dt, v);
+    if (regions.empty()) continue;
+    search.pinched.push_back(v);
+    search.pinches += int64_t(regions.size());
+    for (const int r : regions) {
+      const Star st = star_of(dt, v, r);
+      std::optional<Facet> widest;
+      double area = -1;
+      for (const Cell c : st.cells) {
+        if (region_of(dt, c) != r) continue;
+        for (int k = 0; k < 4; ++k) {
+          if (c->vertex(k) == v || region_of(dt, c->neighbor(k)) == r) continue;
+          const Facet f = facet_between(dt, c, c->neighbor(k));
+          const double a = (pts[f.v[1]] - pts[f.v[0]]).cross(pts[f.v[2]] - pts[f.v[0]]).norm();
+          if (a > area) area = a, widest = f;
+        }
+      }
+      if (widest) out.push_back(*widest);
+    }
+  }
   return out;
 }
 
@@ -349,8 +398,12 @@ MaterialComplex material_delaunay(const MaterialField& field, const std::vector<
   int repair_rounds_since_refinement = 0;
   for (;;) {
     const std::vector<Cell> fresh = label_new_cells(field, dt);
-    const std::vector<Facet> defective = defective_facets(dt, fresh, pts, search);
+    std::vector<Facet> defective = defective_facets(dt, fresh, pts, search);
+    const std::vector<Facet> pinches = pinch_facets(dt, fresh, pts, search);
+    defective.insert(defective.end(), pinches.begin(), pinches.end());
     st.bad_edges = search.count;
+    st.pinches = search.pinches;
+    if (fresh.size() == size_t(dt.number_of_finite_cells())) st.pinches_found = search.pinches;
     const std::vector<Eigen::Vector3d> repair = repair_points(field, dt, defective, resolve_gaps);
     std::vector<Eigen::Vector3d> refine;
     if (repair.empty() && st.refine_rounds < kRefineRounds)

@@ -66,34 +66,10 @@ bool manifold_at_edge(const Dt& dt, const EdgeRef& e, const std::vector<Eigen::V
   return true;
 }
 
-// Whether the cells of region r around v are connected, and the others are too, through
-// the facets at v: r's boundary there is then one disc. (Finding the cells around a
-// vertex marks cells, so it runs on one thread.)
+// Whether region r's boundary at v is one disc.
 bool one_disc_at(const Dt& dt, Vertex v, int r) {
-  std::vector<Cell> cells;
-  dt.incident_cells(v, std::back_inserter(cells));
-  std::vector<int> part(cells.size(), -1);
-  int in_parts = 0, out_parts = 0;
-  for (size_t s = 0; s < cells.size(); ++s) {
-    if (part[s] >= 0) continue;
-    const bool in = region_of(dt, cells[s]) == r;
-    ++(in ? in_parts : out_parts);
-    std::vector<size_t> stack = {s};
-    part[s] = int(s);
-    while (!stack.empty()) {
-      const Cell c = cells[stack.back()];
-      stack.pop_back();
-      for (int k = 0; k < 4; ++k) {
-        if (c->vertex(k) == v) continue;
-        const auto it = std::find(cells.begin(), cells.end(), c->neighbor(k));
-        const size_t t = size_t(it - cells.begin());
-        if (it == cells.end() || part[t] >= 0 || (region_of(dt, *it) == r) != in) continue;
-        part[t] = int(s);
-        stack.push_back(t);
-      }
-    }
-  }
-  return in_parts <= 1 && out_parts <= 1;
+  const Star st = star_of(dt, v, r);
+  return st.in_parts <= 1 && st.out_parts <= 1;
 }
 
 // Cells to give from one region to another.

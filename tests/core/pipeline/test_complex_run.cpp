@@ -11,6 +11,7 @@
 #include "io/mesh_io.h"
 #include "multi/complex_figures.h"
 #include "multi/region_support.h"
+#include "multi/thin_wedges.h"
 #include "phantom/complex_truth.h"
 #include "phantom/material_phantom.h"
 #include "pipeline/complex_run.h"
@@ -62,6 +63,7 @@ void expect_closed_and_uncrossed(const Meshed& m, int64_t shells = 0) {
   const multi::ComplexFigures& f = m.result.figures;
   for (const multi::RegionFigures& r : f.regions) {
     EXPECT_EQ(r.defects, 0) << "label " << r.label;
+    EXPECT_EQ(r.pinched_vertices, 0) << "label " << r.label;
     EXPECT_EQ(r.components, r.label == shells ? 2 : 1) << "label " << r.label;
   }
   EXPECT_EQ(f.crossing_pairs, 0);
@@ -165,6 +167,32 @@ TEST(ComplexRun, CutPlaneGradesFromItsJunctionCurve) {
   EXPECT_EQ(r.figures.junction_curves, 2);  // the rod's circles on the cut and on the slab's top
   EXPECT_GT(r.triangulation.refine_points, 0);
   EXPECT_GE(r.figures.min_angle_deg, 20);  // 20.6 measured
+}
+
+// Tissue (label 2) one voxel thick or less over a bone ball (label 1), rippled and cut
+// off by a tilted plane: where the layer is thinner than the sample's spacing, its two
+// faces touch at vertices at first (the layer pinched to a point); the repair samples it
+// until every label's boundary is one disc at every vertex.
+TEST(ComplexRun, ThinLayerIsSampledUntilManifold) {
+  const Volume v = test::label_volume({50, 50, 24}, {0.7, 0.7, 1.5}, [&](const Eigen::Vector3d& p) {
+    const Eigen::Vector3d q = p - Eigen::Vector3d(17.5, 17.5, 18);
+    const double d = q.norm();
+    if (d < 9) return 1.0f;
+    const double layer = 0.7 + 0.6 * std::sin(q.x() * 0.7) * std::sin(q.y() * 0.5);
+    return d < 9 + layer && q.z() + 0.3 * q.x() > -2 ? 2.0f : 0.0f;
+  });
+  CpuBackend cpu;
+  const pipeline::ComplexResult r = pipeline::run_complex(
+      v, {1, 2}, false, pipeline::RunOptions{}, [&]() -> ComputeBackend& { return cpu; }, nullptr,
+      [](pipeline::LabelRun&) {});
+  EXPECT_GT(r.triangulation.pinches_found, 0);  // 245 measured
+  EXPECT_EQ(r.triangulation.pinches, 0);
+  for (const multi::RegionFigures& f : r.figures.regions) {
+    EXPECT_EQ(f.defects, 0) << "label " << f.label;
+    EXPECT_EQ(f.pinched_vertices, 0) << "label " << f.label;
+    EXPECT_GE(f.min_wedge_deg, multi::kMinWedgeDeg) << "label " << f.label;
+  }
+  EXPECT_EQ(r.figures.crossing_pairs, 0);
 }
 
 TEST(ComplexRun, ComplexPlyKeepsItsLabelPairs) {

@@ -49,6 +49,7 @@ TEST(PartsComplex, FivePartsStayFiveTheTouchingPairSharesItsDiscTheOthersStayApa
   ASSERT_EQ(f.regions.size(), 5u);
   for (const multi::RegionFigures& g : f.regions) {
     EXPECT_EQ(g.defects, 0) << "part " << g.label;
+    EXPECT_EQ(g.pinched_vertices, 0) << "part " << g.label;
     EXPECT_EQ(g.components, 1) << "part " << g.label;
     const double want = p.part_volumes[size_t(g.label - 1)];
     EXPECT_NEAR(g.volume_mm3, want, kVolume * want) << "part " << g.label;
