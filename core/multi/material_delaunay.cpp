@@ -115,7 +115,7 @@ int defects_at_edge(const Dt& dt, const EdgeRef& e, const std::vector<Eigen::Vec
     const double area = (pts[f.v[1]] - pts[f.v[0]]).cross(pts[f.v[2]] - pts[f.v[0]]).norm();
     for (const int r : {ra, rb}) {
       auto u = std::find_if(uses.begin(), uses.end(), [&](const Use& x) { return x.region == r; });
-      if (u == uses.end()) u = uses.insert(uses.end(), Use{r});
+      if (u == uses.end()) u = uses.insert(uses.end(), Use{r, 0, -1, f});
       ++u->facets;
       if (area > u->area) u->area = area, u->widest = f;
     }
