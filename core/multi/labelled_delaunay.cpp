@@ -33,10 +33,14 @@ std::vector<Cell> cells_around(const Dt& dt, const EdgeRef& e) {
   return ring;
 }
 
-Star star_of(const Dt& dt, Vertex v, int r) {
+std::vector<Cell> cells_at(const Dt& dt, Vertex v) {
+  std::vector<Cell> cells;
+  dt.incident_cells(v, std::back_inserter(cells));
+  return cells;
+}
+
+Star star_of(const Dt& dt, Vertex v, const std::vector<Cell>& cells, int r) {
   Star st;
-  dt.incident_cells(v, std::back_inserter(st.cells));
-  const std::vector<Cell>& cells = st.cells;
   std::vector<size_t> order(cells.size());  // the cells by handle, to find a neighbour
   for (size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return cells[a] < cells[b]; });
@@ -67,9 +71,7 @@ Star star_of(const Dt& dt, Vertex v, int r) {
   return st;
 }
 
-std::vector<int> pinched_at(const Dt& dt, Vertex v) {
-  std::vector<Cell> cells;
-  dt.incident_cells(v, std::back_inserter(cells));
+std::vector<int> pinched_at(const Dt& dt, Vertex v, const std::vector<Cell>& cells) {
   std::vector<int> regions;
   for (const Cell c : cells) regions.push_back(region_of(dt, c));
   std::sort(regions.begin(), regions.end());
@@ -78,7 +80,7 @@ std::vector<int> pinched_at(const Dt& dt, Vertex v) {
   if (regions.size() < 2) return out;
   for (const int r : regions) {
     if (r == 0) continue;
-    const Star st = star_of(dt, v, r);
+    const Star st = star_of(dt, v, cells, r);
     if (st.in_parts > 1 || st.out_parts > 1) out.push_back(r);
   }
   return out;

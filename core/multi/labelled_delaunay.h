@@ -56,18 +56,21 @@ void sort_unique(std::vector<EdgeRef>& edges);
 // The cells around an edge, in turn.
 std::vector<Cell> cells_around(const Dt& dt, const EdgeRef& e);
 
-// The cells around v and, by region r, their parts: r's cells and the others', each split
-// into the sets connected through the facets at v. r's boundary at v is one disc when each
-// is one part. (Finding the cells around a vertex marks cells: one thread.)
+// The cells around v. (Finding them marks cells in the triangulation: one thread.)
+std::vector<Cell> cells_at(const Dt& dt, Vertex v);
+
+// By region r, the parts of `cells`, the cells around v: r's cells and the others', each
+// split into the sets connected through the facets at v. r's boundary at v is one disc
+// when each is one part.
 struct Star {
-  std::vector<Cell> cells;
   std::vector<size_t> part;  // each cell's part: the index of its part's first cell
   int in_parts = 0, out_parts = 0;
 };
-Star star_of(const Dt& dt, Vertex v, int r);
+Star star_of(const Dt& dt, Vertex v, const std::vector<Cell>& cells, int r);
 
 // The regions other than the background whose boundary at v is not one disc (pinched to a
-// point there: two cones touching, or a layer whose two faces touch), ascending.
-std::vector<int> pinched_at(const Dt& dt, Vertex v);
+// point there: two cones touching, or a layer whose two faces touch), ascending;
+// `cells` the cells around v.
+std::vector<int> pinched_at(const Dt& dt, Vertex v, const std::vector<Cell>& cells);
 
 }  // namespace mpumesh::multi::labelled

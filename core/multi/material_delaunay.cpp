@@ -187,15 +187,15 @@ std::vector<Facet> pinch_facets(const Dt& dt, const std::vector<Cell>& fresh, co
   search.pinches = 0;
   std::vector<Facet> out;
   for (const Vertex v : look) {
-    const std::vector<int> regions = pinched_at(dt, v);
+    const std::vector<Cell> cells = cells_at(dt, v);
+    const std::vector<int> regions = pinched_at(dt, v, cells);
     if (regions.empty()) continue;
     search.pinched.push_back(v);
     search.pinches += int64_t(regions.size());
     for (const int r : regions) {
-      const Star st = star_of(dt, v, r);
       std::optional<Facet> widest;
       double area = -1;
-      for (const Cell c : st.cells) {
+      for (const Cell c : cells) {
         if (region_of(dt, c) != r) continue;
         for (int k = 0; k < 4; ++k) {
           if (c->vertex(k) == v || region_of(dt, c->neighbor(k)) == r) continue;

@@ -58,17 +58,19 @@ std::vector<Run> runs_around(const Dt& dt, const EdgeRef& e, const std::vector<C
 }
 
 // Whether no region's cells make more than one run around the edge.
-bool manifold_at_edge(const Dt& dt, const EdgeRef& e, const std::vector<Eigen::Vector3d>& pts) {
-  const std::vector<Run> runs = runs_around(dt, e, cells_around(dt, e), pts);
-  for (size_t k = 0; k < runs.size(); ++k)
-    for (size_t m = k + 1; m < runs.size(); ++m)
-      if (runs[k].region == runs[m].region) return false;
-  return true;
+bool manifold_at_edge(const Dt& dt, const EdgeRef& e) {
+  const std::vector<Cell> ring = cells_around(dt, e);
+  std::vector<int> run_regions;  // a run's region where it starts
+  for (size_t k = 0; k < ring.size(); ++k)
+    if (const int r = region_of(dt, ring[k]); r != region_of(dt, ring[(k + ring.size() - 1) % ring.size()]))
+      run_regions.push_back(r);
+  std::sort(run_regions.begin(), run_regions.end());
+  return std::adjacent_find(run_regions.begin(), run_regions.end()) == run_regions.end();
 }
 
 // Whether region r's boundary at v is one disc.
 bool one_disc_at(const Dt& dt, Vertex v, int r) {
-  const Star st = star_of(dt, v, r);
+  const Star st = star_of(dt, v, cells_at(dt, v), r);
   return st.in_parts <= 1 && st.out_parts <= 1;
 }
 
@@ -109,7 +111,7 @@ std::vector<Change> thin_run_changes(const Dt& dt, const EdgeRef& e, const std::
 }
 
 // The change made where every region's boundary stays a closed manifold; whether it was.
-bool apply(Dt& dt, const Change& t, const std::vector<Eigen::Vector3d>& pts) {
+bool apply(Dt& dt, const Change& t) {
   for (const Cell c : t.cells) c->info().region = t.to;
   bool ok = true;
   for (size_t k = 0; k < t.cells.size() && ok; ++k) {
@@ -117,7 +119,7 @@ bool apply(Dt& dt, const Change& t, const std::vector<Eigen::Vector3d>& pts) {
     for (int a = 0; a < 4 && ok; ++a) {
       ok = one_disc_at(dt, c->vertex(a), t.from) && one_disc_at(dt, c->vertex(a), t.to);
       for (int b = a + 1; b < 4 && ok; ++b)
-        ok = manifold_at_edge(dt, {edge_key(c->vertex(a)->info(), c->vertex(b)->info()), c, a, b}, pts);
+        ok = manifold_at_edge(dt, {edge_key(c->vertex(a)->info(), c->vertex(b)->info()), c, a, b});
     }
   }
   if (!ok)
@@ -147,7 +149,7 @@ WedgeTrimStats trim_thin_wedges(Dt& dt, const std::vector<Eigen::Vector3d>& pts,
     for (size_t k = 0; k < edges.size(); ++k) {
       if (!thin[k]) continue;
       for (const Change& t : thin_run_changes(dt, edges[k], pts, min_angle))
-        if (apply(dt, t, pts)) {
+        if (apply(dt, t)) {
           changed.insert(changed.end(), t.cells.begin(), t.cells.end());
           break;
         }
