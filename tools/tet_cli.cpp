@@ -46,6 +46,7 @@ nlohmann::json tet_json(const TetOptions& o, const TetStats& st) {
   j["interior_points"] = st.interior_points;
   j["cavities_removed"] = st.cavities_removed;
   j["nodes_perturbed"] = st.perturbed;
+  j["sliver_cavities_refilled"] = st.sliver_cavities;
   j["points_for_flat_tetrahedra"] = st.flat_tet_points;
   j["surface_volume_mm3"] = st.surface_volume;
   j["volume_difference_pct"] = st.volume_difference_pct();

@@ -10,6 +10,7 @@
 #include "geometry/drop_unused.h"
 #include "multi/complex_figures.h"
 #include "tet/region_quality.h"
+#include "tet/sliver_cavities.h"
 #include "tet/tet_quality.h"
 #include "tet/tetgen_steps.h"
 
@@ -188,6 +189,7 @@ TetMesh tetrahedralize_complex(const TriangleMesh& input, const TetOptions& opt,
                                                                 progress);
   TetMesh m = to_complex_mesh(*out, plc, sides, complex.triangles.size(), opt.background);
   st.perturbed = perturb_slivers(m, uint32_t(plc.vertices.size()));
+  st.sliver_cavities = refill_sliver_cavities(m, kSliverBelowDeg);
   TriangleMesh box;
   box.vertices = plc.vertices;
   box.triangles.assign(plc.triangles.begin() + ptrdiff_t(complex.triangles.size()), plc.triangles.end());

@@ -25,8 +25,11 @@ struct WedgeTrimStats {
   int rounds = 0;     // rounds that changed cells
 };
 
-// The least wedge a region keeps, and the rounds the trimming makes at most.
-inline constexpr double kMinWedgeDeg = 10;
+// The least wedge a region keeps, and the rounds the trimming makes at most. The least is
+// above the 10° a tetrahedron is to keep: where two wedges near 10° meet at a vertex on a
+// flat ridge of the region, the corner between them holds one tetrahedron whose angles
+// the surface fixes, under 10° whatever lies inside.
+inline constexpr double kMinWedgeDeg = 15;
 inline constexpr int kWedgeTrimRounds = 30;
 
 // `pts` holds the vertices' points by their info.

@@ -93,9 +93,6 @@ void graded_sizes(tetgenio& mesh, const TriangleMesh& surface, const std::vector
   });
 }
 
-// The dihedral angle (degrees) under which a tetrahedron is mended (steps 3 and 5).
-constexpr double kPerturbBelowDeg = 10;
-
 // How far the ray from o along the unit d goes before it meets a triangle of m (INFINITY
 // when none).
 double ray_hit(const TriangleMesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
@@ -117,7 +114,7 @@ Eigen::Vector3d point_under_fold(const TriangleMesh& surface, const std::array<E
   return centroid + 0.5 * std::min(edges, ray_hit(surface, centroid, inward)) * inward;
 }
 
-// Step 3's second part: a tetrahedron with a dihedral angle under kPerturbBelowDeg and its
+// Step 3's second part: a tetrahedron with a dihedral angle under kSliverBelowDeg and its
 // four nodes on the surface is one no flip or move of inner nodes mends. With two or three
 // faces on the surface it lies flat under a fold: a point beneath it (from its centroid
 // along the inward normal of those faces (FlatSide), half its mean edge deep, or half way to the
@@ -136,7 +133,7 @@ std::vector<Eigen::Vector3d> points_for_flat_tets(const tetgenio& mesh, const Tr
     }
     if (*std::ranges::max_element(v) >= int(surface.vertices.size())) continue;  // an inner node: step 5's
     const std::array<double, 6> angle = dihedral_angles(p[0], p[1], p[2], p[3]);
-    if (!(*std::ranges::min_element(angle) < kPerturbBelowDeg)) continue;
+    if (!(*std::ranges::min_element(angle) < kSliverBelowDeg)) continue;
     Eigen::Vector3d normal = Eigen::Vector3d::Zero();
     int on_surface = 0;
     for (const auto& f : kTetFace) {
@@ -171,7 +168,7 @@ double min_dihedral_if_positive(const Eigen::Vector3d& a, const Eigen::Vector3d&
 
 // Step 5: sliver perturbation (Tournois, Srinivasan and Alliez 2009 perturb the vertices
 // of slivers for the same end): each inner node of a tetrahedron whose smallest dihedral
-// angle is under kPerturbBelowDeg moves, within its star, to the place among 26
+// angle is under kSliverBelowDeg moves, within its star, to the place among 26
 // directions at three step lengths (a tenth, a fifth and two fifths of its shortest edge)
 // that most raises its star's smallest dihedral angle, keeping every tetrahedron of the
 // star positive; rounds until none moves. Returns the nodes moved.
@@ -200,7 +197,7 @@ int64_t perturb_slivers(TetMesh& m, uint32_t surface_nodes) {
   for (int round = 0; round < 5; ++round) {
     int64_t this_round = 0;
     for (uint32_t t = 0; t < m.tets.size(); ++t) {
-      if (!(shape(t).min_dihedral_deg < kPerturbBelowDeg)) continue;
+      if (!(shape(t).min_dihedral_deg < kSliverBelowDeg)) continue;
       for (uint32_t v : m.tets[t]) {
         if (v < surface_nodes) continue;
         double shortest = INFINITY;

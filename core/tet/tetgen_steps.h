@@ -27,6 +27,9 @@
 
 namespace mpumesh::tetgen_steps {
 
+// The dihedral angle (degrees) under which a tetrahedron is mended (steps 3, 5 and 6).
+inline constexpr double kSliverBelowDeg = 10;
+
 // The triangle abc as one key, whatever the order of its nodes: its nodes ascending.
 using FaceKey = std::array<uint32_t, 3>;
 FaceKey face_key(uint32_t a, uint32_t b, uint32_t c);

@@ -8,6 +8,7 @@
 #include "common/error.h"
 #include "common/option_names.h"
 #include "mesh/topology.h"
+#include "tet/sliver_cavities.h"
 #include "tet/tetgen_steps.h"
 
 namespace mpumesh {
@@ -84,6 +85,7 @@ TetMesh tetrahedralize(const TriangleMesh& input, const TetOptions& opt, TetStat
                                                                 progress);
   TetMesh m = to_mesh(*out, surface_faces(input), st);
   st.perturbed = perturb_slivers(m, uint32_t(input.vertices.size()));
+  st.sliver_cavities = refill_sliver_cavities(m, kSliverBelowDeg);
   finish(m, input.vertices.size(), t0, st);
   if (stats_out) *stats_out = st;
   tell(progress, 1);

@@ -19,7 +19,10 @@
 //    whose surface triangles face into it lies in a cavity (the inside of a closed inner
 //    wall) and is removed;
 // 5. the inner nodes of slivers moved to raise their stars' smallest dihedral angle
-//    (perturb_slivers in tetrahedralize.cpp).
+//    (perturb_slivers in tetrahedralize.cpp);
+// 6. a sliver left (its nodes on the surface, or none of them free to move far enough):
+//    it and its neighbours of one region, up to three rings, refilled by a new node joined
+//    to their outer faces, where that raises the smallest angle (tet/sliver_cavities.h).
 // What none of these mends is a dihedral angle the surface itself makes: two of its
 // triangles meeting at an edge at less than 10° inside (a knife-edge rim, a speck meshed
 // by four vertices) bound a tetrahedron with that angle, whatever the points inside; only
@@ -70,6 +73,7 @@ struct TetStats {
   int64_t cavities_removed = 0;    // regions inside closed inner walls
   int64_t flat_tet_points = 0;     // points put inside to replace flat tetrahedra of surface nodes (step 3)
   int64_t perturbed = 0;           // inner nodes moved off slivers (step 5)
+  int64_t sliver_cavities = 0;     // slivers' cavities refilled by a new node (step 6)
   double size = 0;                 // the size used (mm)
   double surface_volume = 0;       // enclosed by the input surface (mm³); a complex's: by its labels' boundaries
   double seconds = 0;
