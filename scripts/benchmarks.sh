@@ -51,6 +51,9 @@ section "Remeshing the sample CT's marching-cubes surface" \
 section "Volume meshes" \
   "The sample CT's bone at 45,000 particles filled with tetrahedra (\`run --volume\`) against CGAL Mesh_3's volume mesh of the gray image (cell criteria, sliver perturbation and exudation), sequential and parallel, at about the same surface triangle count, in this run." \
   "$B/mpumesh_bench_volume" "$ct" 226 45000
+section "Several labels in one volume mesh" \
+  "The material phantoms as label maps filled with tetrahedra, a region per label (\`mpumesh run MAP --labels all -o complex.ply --volume complex.vtu\`, the whole run as a process), against CGAL Mesh_3's multi-label volume mesh of the same labelled image (a subdomain per label) at about the same triangle count and the cell size ours used, sequential and parallel, in this run." \
+  "$B/mpumesh_bench_volume" --materials cpu
 section "Accuracy against analytic truth" \
   "CT-like phantoms (partial volume, noise, slices thicker than the pixels, tilted shapes), meshed as a user does, scored from the mesh files against the closed form." \
   "$B/mpumesh_bench_truth"
