@@ -254,11 +254,17 @@ bool mend(Mesh& g, uint32_t t, double below_deg) {
 }  // namespace
 
 int64_t refill_sliver_cavities(TetMesh& m, double below_deg) {
+  std::vector<uint32_t> slivers;
+  for (uint32_t t = 0; t < m.tets.size(); ++t) {
+    const auto& v = m.tets[t];
+    const auto a = dihedral_angles(m.nodes[v[0]], m.nodes[v[1]], m.nodes[v[2]], m.nodes[v[3]]);
+    if (*std::ranges::min_element(a) < below_deg) slivers.push_back(t);
+  }
+  if (slivers.empty()) return 0;  // without the tables below, which cost more than the scan
   Mesh g{m, Stars(m), std::vector<char>(m.tets.size(), 0), {}};
   for (const auto& f : m.boundary) g.walls.insert(tetgen_steps::face_key(f[0], f[1], f[2]));
   int64_t added = 0;
-  const uint32_t n = uint32_t(m.tets.size());
-  for (uint32_t t = 0; t < n; ++t)
+  for (uint32_t t : slivers)
     if (!g.dead[t] && g.min_dihedral(t) < below_deg) added += mend(g, t, below_deg);
   if (added == 0) return 0;
   size_t kept = 0;
