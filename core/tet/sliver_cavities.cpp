@@ -163,7 +163,15 @@ std::pair<double, Eigen::Vector3d> place_node(const Mesh& g, const Cavity& c) {
   return {best, at};
 }
 
-void measure(const Mesh& g, Cavity& c);
+// The cavity's old smallest angle and volume.
+void measure(const Mesh& g, Cavity& c) {
+  c.old_min = 180, c.old_volume = 0;
+  for (uint32_t t : c.tets) {
+    c.old_min = std::min(c.old_min, g.min_dihedral(t));
+    const auto& v = g.m.tets[t];
+    c.old_volume += volume(g.m.nodes[v[0]], g.m.nodes[v[1]], g.m.nodes[v[2]], g.m.nodes[v[3]]);
+  }
+}
 
 // The cavity grown by one ring: the live tetrahedra of `region` across its faces.
 void grow(const Mesh& g, Cavity& c, int32_t region) {
@@ -175,16 +183,6 @@ void grow(const Mesh& g, Cavity& c, int32_t region) {
       c.tets.push_back(uint32_t(u));
     }
   measure(g, c);
-}
-
-// The cavity's old smallest angle and volume.
-void measure(const Mesh& g, Cavity& c) {
-  c.old_min = 180, c.old_volume = 0;
-  for (uint32_t t : c.tets) {
-    c.old_min = std::min(c.old_min, g.min_dihedral(t));
-    const auto& v = g.m.tets[t];
-    c.old_volume += volume(g.m.nodes[v[0]], g.m.nodes[v[1]], g.m.nodes[v[2]], g.m.nodes[v[3]]);
-  }
 }
 
 // The cavity's tetrahedra replaced by p joined to its faces.

@@ -21,8 +21,9 @@
 // 5. the inner nodes of slivers moved to raise their stars' smallest dihedral angle
 //    (perturb_slivers in tetrahedralize.cpp);
 // 6. a sliver left (its nodes on the surface, or none of them free to move far enough):
-//    it and its neighbours of one region, up to three rings, refilled by a new node joined
-//    to their outer faces, where that raises the smallest angle (tet/sliver_cavities.h).
+//    it and its neighbours of one region, grown where the new tetrahedra are still poor,
+//    refilled by a new node joined to their outer faces, where that raises the smallest
+//    angle (tet/sliver_cavities.h).
 // What none of these mends is a dihedral angle the surface itself makes: two of its
 // triangles meeting at an edge at less than 10° inside (a knife-edge rim, a speck meshed
 // by four vertices) bound a tetrahedron with that angle, whatever the points inside; only
