@@ -14,6 +14,11 @@ namespace {
 
 constexpr int kGrowths = 8;
 
+double smallest_dihedral(const TetMesh& m, uint32_t t) {
+  const auto& v = m.tets[t];
+  return std::ranges::min(dihedral_angles(m.nodes[v[0]], m.nodes[v[1]], m.nodes[v[2]], m.nodes[v[3]]));
+}
+
 // Each node's tetrahedra: those of the mesh as it came (a CSR table) and those added since.
 class Stars {
  public:
@@ -61,11 +66,6 @@ struct Mesh {
       if (u != t && !dead[u] && has(u, f[1]) && has(u, f[2])) found = u;
     });
     return found;
-  }
-  double min_dihedral(uint32_t t) const {
-    const auto& v = m.tets[t];
-    const auto a = dihedral_angles(m.nodes[v[0]], m.nodes[v[1]], m.nodes[v[2]], m.nodes[v[3]]);
-    return *std::ranges::min_element(a);
   }
 };
 
@@ -167,22 +167,44 @@ std::pair<double, Eigen::Vector3d> place_node(const Mesh& g, const Cavity& c) {
 void measure(const Mesh& g, Cavity& c) {
   c.old_min = 180, c.old_volume = 0;
   for (uint32_t t : c.tets) {
-    c.old_min = std::min(c.old_min, g.min_dihedral(t));
+    c.old_min = std::min(c.old_min, smallest_dihedral(g.m, t));
     const auto& v = g.m.tets[t];
     c.old_volume += volume(g.m.nodes[v[0]], g.m.nodes[v[1]], g.m.nodes[v[2]], g.m.nodes[v[3]]);
   }
 }
 
-// The cavity grown by one ring: the live tetrahedra of `region` across its faces.
-void grow(const Mesh& g, Cavity& c, int32_t region) {
+// The cavity grown by the live tetrahedra of its region across those of its faces for
+// which across_face(face) holds; whether any was added.
+template <class AcrossFace>
+bool grow(const Mesh& g, Cavity& c, AcrossFace&& across_face) {
   const std::vector<uint32_t> now = c.tets;
+  const int32_t region = g.m.region[now[0]];
+  bool grown = false;
   for (uint32_t t : now)
     for (int k = 0; k < 4; ++k) {
       const int64_t u = g.across(t, k);
-      if (u < 0 || g.m.region[size_t(u)] != region || std::ranges::find(c.tets, uint32_t(u)) != c.tets.end()) continue;
+      if (u < 0 || g.m.region[size_t(u)] != region || std::ranges::find(c.tets, uint32_t(u)) != c.tets.end() ||
+          !across_face(g.face(t, k)))
+        continue;
       c.tets.push_back(uint32_t(u));
+      grown = true;
     }
   measure(g, c);
+  return grown;
+}
+
+// The cavity grown by one ring.
+void grow_ring(const Mesh& g, Cavity& c) {
+  grow(g, c, [](const std::array<uint32_t, 3>&) { return true; });
+}
+
+// The cavity grown across the faces whose tetrahedron with p has an angle under
+// `below_deg` or is not positive (where the face is not a wall); false when none is.
+bool grow_where_poor(const Mesh& g, Cavity& c, const Eigen::Vector3d& p, double below_deg) {
+  return grow(g, c, [&](const std::array<uint32_t, 3>& f) {
+    const Eigen::Vector3d &a = g.m.nodes[f[0]], &b = g.m.nodes[f[2]], &d = g.m.nodes[f[1]];
+    return !(volume(a, b, d, p) > 0) || std::ranges::min(dihedral_angles(a, b, d, p)) < below_deg;
+  });
 }
 
 // The cavity's tetrahedra replaced by p joined to its faces.
@@ -200,40 +222,19 @@ void refill(Mesh& g, const Cavity& c, const Eigen::Vector3d& p) {
   }
 }
 
-// The cavity grown across the faces whose tetrahedron with p has an angle under
-// `below_deg` or is not positive (where the face is not a wall); false when none is.
-bool grow_where_poor(const Mesh& g, Cavity& c, const Eigen::Vector3d& p, double below_deg) {
-  const std::vector<uint32_t> now = c.tets;
-  const int32_t region = g.m.region[now[0]];
-  bool grown = false;
-  for (uint32_t t : now)
-    for (int k = 0; k < 4; ++k) {
-      const int64_t u = g.across(t, k);
-      if (u < 0 || g.m.region[size_t(u)] != region || std::ranges::find(c.tets, uint32_t(u)) != c.tets.end()) continue;
-      const auto f = g.face(t, k);
-      const Eigen::Vector3d &a = g.m.nodes[f[0]], &b = g.m.nodes[f[2]], &d = g.m.nodes[f[1]];
-      const auto angle = dihedral_angles(a, b, d, p);
-      if (volume(a, b, d, p) > 0 && *std::ranges::min_element(angle) >= below_deg) continue;
-      c.tets.push_back(uint32_t(u));
-      grown = true;
-    }
-  measure(g, c);
-  return grown;
-}
-
 // Tetrahedron t's cavity refilled where that raises its smallest angle; true when done.
 // The cavity starts as t and its neighbours and grows where its node makes poor
 // tetrahedra (kGrowths times at most), or by a ring where its faces are not a surface.
 bool mend(Mesh& g, uint32_t t, double below_deg) {
   Cavity c;
   c.tets = {t};
-  grow(g, c, g.m.region[t]);
+  grow_ring(g, c);
   Cavity best_cavity;
   double best = -1;
   Eigen::Vector3d best_at;
   for (int step = 0; step < kGrowths; ++step) {
     if (!cavity_faces(g, c)) {
-      grow(g, c, g.m.region[t]);
+      grow_ring(g, c);
       continue;
     }
     const auto [q, p] = place_node(g, c);
@@ -253,17 +254,14 @@ bool mend(Mesh& g, uint32_t t, double below_deg) {
 
 int64_t refill_sliver_cavities(TetMesh& m, double below_deg) {
   std::vector<uint32_t> slivers;
-  for (uint32_t t = 0; t < m.tets.size(); ++t) {
-    const auto& v = m.tets[t];
-    const auto a = dihedral_angles(m.nodes[v[0]], m.nodes[v[1]], m.nodes[v[2]], m.nodes[v[3]]);
-    if (*std::ranges::min_element(a) < below_deg) slivers.push_back(t);
-  }
+  for (uint32_t t = 0; t < m.tets.size(); ++t)
+    if (smallest_dihedral(m, t) < below_deg) slivers.push_back(t);
   if (slivers.empty()) return 0;  // without the tables below, which cost more than the scan
   Mesh g{m, Stars(m), std::vector<char>(m.tets.size(), 0), {}};
   for (const auto& f : m.boundary) g.walls.insert(tetgen_steps::face_key(f[0], f[1], f[2]));
   int64_t added = 0;
   for (uint32_t t : slivers)
-    if (!g.dead[t] && g.min_dihedral(t) < below_deg) added += mend(g, t, below_deg);
+    if (!g.dead[t] && smallest_dihedral(m, t) < below_deg) added += mend(g, t, below_deg);
   if (added == 0) return 0;
   size_t kept = 0;
   for (size_t t = 0; t < m.tets.size(); ++t)

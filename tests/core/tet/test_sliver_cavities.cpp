@@ -7,6 +7,7 @@
 #include <set>
 
 #include "tet/sliver_cavities.h"
+#include "tet/tet_quality.h"
 
 namespace mpumesh {
 namespace {
@@ -16,20 +17,7 @@ double volume(const TetMesh& m, const std::array<uint32_t, 4>& t) {
   return (p[t[1]] - p[t[0]]).dot((p[t[2]] - p[t[0]]).cross(p[t[3]] - p[t[0]])) / 6;
 }
 
-double min_dihedral(const TetMesh& m) {
-  double worst = 180;
-  for (const auto& t : m.tets) {
-    const auto a = dihedral_angles(m.nodes[t[0]], m.nodes[t[1]], m.nodes[t[2]], m.nodes[t[3]]);
-    worst = std::min(worst, *std::ranges::min_element(a));
-  }
-  return worst;
-}
-
-double total_volume(const TetMesh& m) {
-  double v = 0;
-  for (const auto& t : m.tets) v += volume(m, t);
-  return v;
-}
+double min_dihedral(const TetMesh& m) { return measure_tet_quality(m).min_dihedral_deg; }
 
 std::set<std::array<uint32_t, 3>> faces_of_tets(const TetMesh& m) {
   std::set<std::array<uint32_t, 3>> s;
@@ -60,15 +48,17 @@ TetMesh tent(double rise, int32_t below) {
 
 TEST(SliverCavities, RefillsASliverOfBoundaryNodesWithItsNeighbours) {
   TetMesh m = tent(0.1, 1);
-  const double before = min_dihedral(m), volume_before = total_volume(m);
-  ASSERT_LT(before, 10);
+  const TetQuality before = measure_tet_quality(m);
+  ASSERT_LT(before.min_dihedral_deg, 10);
   EXPECT_EQ(refill_sliver_cavities(m, 10), 1);
-  std::printf("smallest dihedral %.2f -> %.2f deg, %zu tetrahedra\n", before, min_dihedral(m), m.tets.size());
-  EXPECT_GE(min_dihedral(m), 10);
+  const TetQuality after = measure_tet_quality(m);
+  std::printf("smallest dihedral %.2f -> %.2f deg, %zu tetrahedra\n", before.min_dihedral_deg, after.min_dihedral_deg,
+              m.tets.size());
+  EXPECT_GE(after.min_dihedral_deg, 10);
   EXPECT_EQ(m.tets.size(), 6u);  // the new node joined to the cavity's six faces
   EXPECT_EQ(m.region.size(), m.tets.size());
-  for (const auto& t : m.tets) EXPECT_GT(volume(m, t), 0);
-  EXPECT_NEAR(total_volume(m), volume_before, 1e-12);
+  EXPECT_EQ(after.inverted, 0);
+  EXPECT_NEAR(after.volume_mm3, before.volume_mm3, 1e-12);
   const auto faces = faces_of_tets(m);
   for (auto f : m.boundary) {
     std::ranges::sort(f);
