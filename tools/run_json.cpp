@@ -59,6 +59,7 @@ nlohmann::json fit_section(const pipeline::RunResult& r, const OptionSpelling& s
   nlohmann::json j = fit_json(d.fit, r.fit);
   j["eps_source"] = spell_options(d.tolerance.source, spell);
   if (d.tolerance.noise > 0) j["point_noise_mm"] = d.tolerance.noise;
+  if (d.curvature_scale_mm > 0) j["curvature_scale_mm"] = d.curvature_scale_mm;
   return j;
 }
 

@@ -150,6 +150,8 @@ RunReportRead read_run_json(const json& j, const std::string& /*path*/) {
   if (const json* f = member(j, "fit"); f && f->is_object() && member(*f, "eps_mm") && (*f)["eps_mm"].is_number()) {
     r.fit.eps = (*f)["eps_mm"].get<double>();
     r.derived.tolerance.source = text(f, "eps_source");
+    if (const json* c = member(*f, "curvature_scale_mm"); c && c->is_number())
+      r.derived.curvature_scale_mm = c->get<double>();
   }
   if (const json* p = member(j, "particles"); p && p->is_object()) read_particles(*p, r);
   if (const json* o = member(j, "optimization"); o && o->is_object()) read_optimization(*o, r.optimization);

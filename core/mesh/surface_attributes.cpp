@@ -2,9 +2,14 @@
 
 #include "common/error.h"
 #include "geometry/angle.h"
+#include "common/neighbour_grid.h"
 #include "mpu/mpu_eval_ref.h"
 #include "particles/sizing_field.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -92,6 +97,37 @@ std::vector<double> gauss_at_mesh_scale(const TriangleMesh& m) {
   }
   particles::average_over_patches(m.vertices, normal, area, length, gauss, kappa);
   return gauss;
+}
+
+void smooth_curvature(TriangleMesh& m, double sigma) {
+  const size_t n = m.vertices.size();
+  MPUMESH_ASSERT(m.curvature.size() == n && m.normals.size() == n, "smooth_curvature: the mesh has no curvature");
+  if (n == 0 || !(sigma > 0)) return;
+  std::vector<double> area(n, 0.0);
+  for (const auto& t : m.triangles) {
+    const double a3 = (m.vertices[t[1]] - m.vertices[t[0]]).cross(m.vertices[t[2]] - m.vertices[t[0]]).norm() / 6;
+    for (uint32_t v : t) area[v] += a3;
+  }
+  const double reach = 3 * sigma, inv2s2 = 1 / (2 * sigma * sigma);
+  const NeighbourGrid grid(m.vertices, reach);
+  std::vector<std::array<float, 4>> out(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      double w = 0, s1 = 0, s2 = 0;
+      grid.for_each_within(m.vertices[i], [&](uint32_t j) {
+        if (m.normals[j].dot(m.normals[i]) < 0.5f) return;
+        const double wj = area[j] * std::exp(-(m.vertices[j] - m.vertices[i]).squaredNorm() * inv2s2);
+        w += wj, s1 += wj * m.curvature[j][0], s2 += wj * m.curvature[j][1];
+      });
+      if (!(w > 0)) {
+        out[i] = m.curvature[i];
+        continue;
+      }
+      const double k1 = s1 / w, k2 = s2 / w;
+      out[i] = {float(k1), float(k2), float(k1 * k2), float(0.5 * (k1 + k2))};
+    }
+  });
+  m.curvature.swap(out);
 }
 
 }  // namespace mpumesh

@@ -44,7 +44,9 @@ inline constexpr double kLabelSteps = 1.5;
 
 // A label map's fit reaches across its slices: its automatic smallest radius is at least
 // kLabelMinRadiusSlices slice spacings (FitOptions::min_radius_floor), so that every ball
-// holds the contours of the slices on either side of its centre.
+// holds the contours of the slices on either side of its centre. The fit's curvature varies
+// with the grid's steps at that scale, so the curvature a label map's mesh carries is the
+// fit's averaged at that scale (mesh/surface_attributes.h smooth_curvature).
 inline constexpr double kLabelMinRadiusSlices = 1.5;
 
 struct LabelGrid {

@@ -143,8 +143,10 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
     run.label_slices = {vol.origin, vol.direction.col(2).normalized(), vol.spacing.z()};
     run.r.derived.fit.min_radius_floor = mpu::kLabelMinRadiusSlices * vol.spacing.z();
   }
-  if (run.tolerance_pixel > 0 && run.opt.label > 0)
+  if (run.tolerance_pixel > 0 && run.opt.label > 0) {
     run.label_grid = mpu::LabelGrid{vol.direction.col(2).normalized(), vol.in_plane_spacing(), vol.spacing.z()};
+    run.r.derived.curvature_scale_mm = run.r.derived.fit.min_radius_floor;
+  }
   run.voxels = vol.voxel_count();
   run.r.input.volume = VolumeInput{vol.dims, vol.spacing, vol.modality, vol.read_notes};
   run.r.segmentation = seg::summarize(s);
@@ -171,8 +173,10 @@ void set_tolerance(Run& run, PointCloud& cloud, const KdTree& index) {
   if (run.label_grid) {
     run.r.derived.label_tolerance = mpu::set_label_map_tolerance(cloud, index, *run.label_grid, t.eps);
     t.source += fmt::format("; label map: each point's tolerance {} grid steps along its normal (median {:.2f} x "
-                            "this), less across plates and gaps thinner than that",
-                            mpu::kLabelSteps, run.r.derived.label_tolerance->median_factor);
+                            "this), less across plates and gaps thinner than that; the mesh's curvature taken at the "
+                            "scale of the smallest ball ({:.2f} mm)",
+                            mpu::kLabelSteps, run.r.derived.label_tolerance->median_factor,
+                            run.r.derived.curvature_scale_mm);
   }
 }
 
@@ -252,7 +256,7 @@ void optimize(Run& run) {
 }
 
 // The mesh must be a closed oriented manifold with finite vertices and normals; it gets
-// the surface's normals and curvatures.
+// the surface's normals and curvatures (a label map's at the scale of its grid).
 void attach_and_check(Run& run) {
   TriangleMesh& mesh = run.r.mesh;
   const Topology topo = analyze_topology(mesh);
@@ -260,7 +264,10 @@ void attach_and_check(Run& run) {
     throw InputError(fmt::format("{}: the triangulation is not a closed oriented manifold ({} border edges, {} "
                                  "non-manifold edges, {} non-manifold vertices); nothing written",
                                  run.input, topo.border_edges, topo.nonmanifold_edges, topo.nonmanifold_vertices));
-  stage(run.obs, "curvature", [&] { attach_surface_attributes(mesh, run.r.surface, *run.backend); });
+  stage(run.obs, "curvature", [&] {
+    attach_surface_attributes(mesh, run.r.surface, *run.backend);
+    if (run.r.derived.curvature_scale_mm > 0) smooth_curvature(mesh, run.r.derived.curvature_scale_mm);
+  });
   for (size_t i = 0; i < mesh.vertices.size(); ++i)
     if (!mesh.vertices[i].allFinite() || !mesh.normals[i].allFinite())
       throw NumericalError(run.input + ": vertex " + std::to_string(i) +

@@ -77,6 +77,9 @@ struct Derived {
   // A label map's points: their tolerances along their normals (mpu/fit_tolerance.h).
   std::optional<mpu::LabelTolerance> label_tolerance;
   bool eps_given = false;
+  // A label map's: the scale (mm, the Gaussian's sigma) at which its mesh's curvature is
+  // taken (mesh/surface_attributes.h smooth_curvature); 0: the fit's at each vertex.
+  double curvature_scale_mm = 0;
   particles::SampleSource sample_source;
   particles::SampleOptions sample;  // of the last sampling (after any raise)
   ComponentOptions components;      // as applied: the options' with the specks' bound
