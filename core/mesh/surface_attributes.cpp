@@ -1,8 +1,8 @@
 #include "mesh/surface_attributes.h"
 
 #include "common/error.h"
-#include "geometry/angle.h"
 #include "common/neighbour_grid.h"
+#include "geometry/angle.h"
 #include "mpu/mpu_eval_ref.h"
 #include "particles/sizing_field.h"
 
@@ -115,7 +115,9 @@ void smooth_curvature(TriangleMesh& m, double sigma) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       double w = 0, s1 = 0, s2 = 0;
       grid.for_each_within(m.vertices[i], [&](uint32_t j) {
-        if (m.normals[j].dot(m.normals[i]) < 0.5f) return;
+        if (m.normals[j].dot(m.normals[i]) < 0.5f || !std::isfinite(m.curvature[j][0]) ||
+            !std::isfinite(m.curvature[j][1]))
+          return;
         const double wj = area[j] * std::exp(-(m.vertices[j] - m.vertices[i]).squaredNorm() * inv2s2);
         w += wj, s1 += wj * m.curvature[j][0], s2 += wj * m.curvature[j][1];
       });

@@ -28,12 +28,12 @@ std::vector<double> gauss_at_mesh_scale(const TriangleMesh& mesh);
 
 // The curvature at a scale: each vertex's k1 and k2 (mesh.curvature, which must be there
 // with mesh.normals) replaced by their means over the vertices within 3 sigma whose
-// normals lie within 60° of its own (so that the two faces of a plate do not mix),
-// weighted by the vertices' areas and a Gaussian of the distance, exp(-d² / 2 sigma²);
-// K = k1 k2 and H = (k1 + k2) / 2 of the means. A label map's fit follows its grid's
-// steps at the scale of its smallest balls (mpu/fit_tolerance.h): the curvature its mesh
-// carries is the fit's at that scale, where the steps' bumps average out and the shape's
-// bends remain.
+// normals lie within 60° of its own (so that the two faces of a plate do not mix) and
+// whose curvature is finite, weighted by the vertices' areas and a Gaussian of the
+// distance, exp(-d² / 2 sigma²); K = k1 k2 and H = (k1 + k2) / 2 of the means. A label
+// map's fit follows its grid's steps at the scale of its smallest balls
+// (mpu/fit_tolerance.h): the curvature its mesh carries is the fit's at that scale, where
+// the steps' bumps average out and the shape's bends remain.
 void smooth_curvature(TriangleMesh& mesh, double sigma);
 
 }  // namespace mpumesh
