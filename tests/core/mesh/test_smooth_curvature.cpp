@@ -34,7 +34,7 @@ TEST(SmoothCurvature, BumpsAverageOutOnASphere) {
   for (const auto& c : m.curvature) before = std::max(before, std::abs(c[0] * kR + 1));
   ASSERT_GT(before, 0.25);
   smooth_curvature(m, 3.0);
-  // About 60 vertices within the scale's sigma: the bumps' spread drops by about 8.
+  // The Gaussian's weights count as about 100 equal ones: the bumps' spread drops tenfold.
   for (const auto& c : m.curvature) {
     EXPECT_NEAR(c[0] * kR, -1, 0.1);
     EXPECT_NEAR(c[1] * kR, -1, 0.1);
