@@ -145,7 +145,9 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
   }
   if (run.tolerance_pixel > 0 && run.opt.label > 0) {
     run.label_grid = mpu::LabelGrid{vol.direction.col(2).normalized(), vol.in_plane_spacing(), vol.spacing.z()};
-    run.r.derived.curvature_scale_mm = run.r.derived.fit.min_radius_floor;
+    // The complex's label runs give it their fits and vertices only (pipeline/complex_run.h):
+    // their meshes' curvature is never written.
+    if (!run.opt.label_shares_faces) run.r.derived.curvature_scale_mm = run.r.derived.fit.min_radius_floor;
   }
   run.voxels = vol.voxel_count();
   run.r.input.volume = VolumeInput{vol.dims, vol.spacing, vol.modality, vol.read_notes};
@@ -173,10 +175,10 @@ void set_tolerance(Run& run, PointCloud& cloud, const KdTree& index) {
   if (run.label_grid) {
     run.r.derived.label_tolerance = mpu::set_label_map_tolerance(cloud, index, *run.label_grid, t.eps);
     t.source += fmt::format("; label map: each point's tolerance {} grid steps along its normal (median {:.2f} x "
-                            "this), less across plates and gaps thinner than that; the mesh's curvature taken at the "
-                            "scale of the smallest ball ({:.2f} mm)",
-                            mpu::kLabelSteps, run.r.derived.label_tolerance->median_factor,
-                            run.r.derived.curvature_scale_mm);
+                            "this), less across plates and gaps thinner than that",
+                            mpu::kLabelSteps, run.r.derived.label_tolerance->median_factor);
+    if (const double scale = run.r.derived.curvature_scale_mm; scale > 0)
+      t.source += fmt::format("; the mesh's curvature taken at the scale of the smallest ball ({:.2f} mm)", scale);
   }
 }
 
