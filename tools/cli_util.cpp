@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include "common/error.h"
+#include "common/eval_precision.h"
 #include "io/atomic_file.h"
 
 namespace mpumesh::tools {
@@ -13,6 +14,13 @@ void add_backend_options(CLI::App* cmd, BackendOptions& b) {
       ->check(CLI::IsMember({"cpu", "gpu", "auto"}))
       ->capture_default_str();
   cmd->add_option("--device", b.device, "Vulkan device index (see `mpumesh devices`)");
+  // Set as the option is read, before any surface is fitted or read (their leaf records
+  // follow it: common/eval_precision.h).
+  cmd->add_option_function<std::string>(
+         "--cpu-eval", [](const std::string& v) { set_eval_precision(*parse_eval_precision(v)); },
+         "the CPU's MPU evaluation: float64 (the default) or float32 (16 leaves a vector step; f within 2e-4 mm "
+         "of float64's)")
+      ->check(CLI::IsMember({"float64", "float32"}));
 }
 
 void add_common(CLI::App* cmd, CommonOptions& common) {
@@ -56,7 +64,10 @@ vk::BackendChoice EarlyBackend::open(const CommonOptions& common, Progress& prog
 }
 
 nlohmann::json backend_json(const vk::BackendChoice& choice) {
-  return {{"kind", choice.backend->kind()}, {"device", choice.backend->device()}, {"note", choice.note}};
+  return {{"kind", choice.backend->kind()},
+          {"device", choice.backend->device()},
+          {"note", choice.note},
+          {"cpu_eval", eval_precision_name(eval_precision())}};
 }
 
 void write_json_file(const nlohmann::json& j, const std::string& path) { write_file_atomically(j.dump(2) + '\n', path); }

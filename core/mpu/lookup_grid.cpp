@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "common/eval_precision.h"
 #include "mpu/mpu_surface.h"
 
 namespace mpumesh::mpu {
@@ -73,6 +74,18 @@ void index_spheres(MpuSurface& s) {
   for (size_t i = 0; i < s.leaves.size(); ++i) {
     const Leaf& l = s.leaves[i];
     s.grid.spheres[i] = Eigen::Vector4d(l.centre.x(), l.centre.y(), l.centre.z(), l.radius * l.radius);
+  }
+  s.grid.records32.clear();
+  if (eval_precision() != EvalPrecision::kFloat) return;
+  s.grid.records32.resize(s.leaves.size() * LookupGrid::kRecord32);
+  for (size_t i = 0; i < s.leaves.size(); ++i) {
+    const Leaf& l = s.leaves[i];
+    float* to = s.grid.records32.data() + i * LookupGrid::kRecord32;
+    for (int k = 0; k < 3; ++k) to[k] = float(l.centre[k]);
+    to[3] = float(l.radius);
+    for (int k = 0; k < 9; ++k) to[4 + k] = float(l.frame.data()[k]);
+    for (size_t k = 0; k < l.coeffs.size(); ++k) to[13 + k] = float(l.coeffs[k]);
+    to[LookupGrid::kRecord32 - 1] = 0;
   }
 }
 

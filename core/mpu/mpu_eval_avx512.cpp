@@ -1,5 +1,6 @@
-// The AVX-512 path of the MPU evaluation (mpu_eval_simd.h): 8 doubles per register, the
-// support test's hits compacted with vpcompressd, eight leaves transposed in registers.
+// The AVX-512 paths of the MPU evaluation (mpu_eval_simd.h): 8 doubles per register, the
+// support test's hits compacted with vpcompressd, eight leaves transposed in registers;
+// and in single precision 16 floats per register, sixteen leaves transposed.
 #include <immintrin.h>
 
 #include <cstdint>
@@ -15,6 +16,9 @@ namespace mpumesh::mpu::simd {
 namespace {
 
 struct Avx512 {
+  using T = double;
+  static constexpr int kLanes = 8;
+  using Support = Avx512;
   using V = __m512d;
   using Mask = __mmask8;
   MPUMESH_SIMD_TARGET static V set1(double a) { return _mm512_set1_pd(a); }
@@ -31,6 +35,9 @@ struct Avx512 {
   MPUMESH_SIMD_TARGET static double first(V a) { return _mm512_cvtsd_f64(a); }
   MPUMESH_SIMD_TARGET static void store(double* p, V a) { _mm512_storeu_pd(p, a); }
   MPUMESH_SIMD_TARGET static Mask lanes_from(int k) { return Mask(0xffu << k); }
+  MPUMESH_SIMD_TARGET static const double* record(const EvalView& v, uint32_t id) {
+    return v.leaves + size_t(id) * v.leaf_stride;
+  }
 
   // An 8 x 8 transpose in three rounds of shuffles.
   MPUMESH_SIMD_TARGET static void transpose(const V r[8], V* c) {
@@ -105,6 +112,83 @@ struct Avx512 {
   }
 };
 
+
+// The single-precision kernel's vectors: 16 floats, a 16-bit mask; its support test is
+// the double one's above.
+struct Avx512F {
+  using T = float;
+  static constexpr int kLanes = 16;
+  using Support = Avx512;
+  using V = __m512;
+  using Mask = __mmask16;
+  MPUMESH_SIMD_TARGET static V set1(double a) { return _mm512_set1_ps(float(a)); }
+  MPUMESH_SIMD_TARGET static V zero() { return _mm512_setzero_ps(); }
+  MPUMESH_SIMD_TARGET static V add(V a, V b) { return _mm512_add_ps(a, b); }
+  MPUMESH_SIMD_TARGET static V sub(V a, V b) { return _mm512_sub_ps(a, b); }
+  MPUMESH_SIMD_TARGET static V mul(V a, V b) { return _mm512_mul_ps(a, b); }
+  MPUMESH_SIMD_TARGET static V div(V a, V b) { return _mm512_div_ps(a, b); }
+  MPUMESH_SIMD_TARGET static V sqrt(V a) { return _mm512_sqrt_ps(a); }
+  MPUMESH_SIMD_TARGET static Mask lt(V a, V b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
+  MPUMESH_SIMD_TARGET static Mask le(V a, V b) { return _mm512_cmp_ps_mask(a, b, _CMP_LE_OQ); }
+  MPUMESH_SIMD_TARGET static V sel(Mask m, V t, V f) { return _mm512_mask_blend_ps(m, f, t); }
+  MPUMESH_SIMD_TARGET static V keep(Mask m, V a) { return _mm512_maskz_mov_ps(m, a); }
+  MPUMESH_SIMD_TARGET static float first(V a) { return _mm512_cvtss_f32(a); }
+  MPUMESH_SIMD_TARGET static void store(float* p, V a) { _mm512_storeu_ps(p, a); }
+  MPUMESH_SIMD_TARGET static Mask lanes_from(int k) { return Mask(0xffffu << k); }
+  MPUMESH_SIMD_TARGET static const float* record(const EvalView& v, uint32_t id) {
+    return v.records32 + size_t(id) * 36;
+  }
+
+  // A 16 x 16 transpose: pairs, then 4 x 4 blocks within 128-bit lanes, then the 4 x 4
+  // transpose of the 128-bit lanes.
+  MPUMESH_SIMD_TARGET static void transpose(const V r[16], V* c) {
+    V t[16], u[16];
+    for (int i = 0; i < 8; ++i) {
+      t[2 * i] = _mm512_unpacklo_ps(r[2 * i], r[2 * i + 1]);
+      t[2 * i + 1] = _mm512_unpackhi_ps(r[2 * i], r[2 * i + 1]);
+    }
+    // u[4 i + k], 128-bit lane m: column 4 m + k of rows 4 i .. 4 i + 3.
+    for (int i = 0; i < 4; ++i) {
+      u[4 * i + 0] = _mm512_shuffle_ps(t[4 * i + 0], t[4 * i + 2], 0x44);
+      u[4 * i + 1] = _mm512_shuffle_ps(t[4 * i + 0], t[4 * i + 2], 0xEE);
+      u[4 * i + 2] = _mm512_shuffle_ps(t[4 * i + 1], t[4 * i + 3], 0x44);
+      u[4 * i + 3] = _mm512_shuffle_ps(t[4 * i + 1], t[4 * i + 3], 0xEE);
+    }
+    for (int k = 0; k < 4; ++k) {
+      const V v0 = _mm512_shuffle_f32x4(u[k], u[4 + k], 0x88), v1 = _mm512_shuffle_f32x4(u[k], u[4 + k], 0xDD);
+      const V v2 = _mm512_shuffle_f32x4(u[8 + k], u[12 + k], 0x88), v3 = _mm512_shuffle_f32x4(u[8 + k], u[12 + k], 0xDD);
+      c[k] = _mm512_shuffle_f32x4(v0, v2, 0x88);
+      c[8 + k] = _mm512_shuffle_f32x4(v0, v2, 0xDD);
+      c[4 + k] = _mm512_shuffle_f32x4(v1, v3, 0x88);
+      c[12 + k] = _mm512_shuffle_f32x4(v1, v3, 0xDD);
+    }
+  }
+
+  MPUMESH_SIMD_TARGET static void load_leaves(const float* const* p, V* F) {
+    for (int blk = 0; blk < 2; ++blk) {
+      V r[16];
+      for (int l = 0; l < 16; ++l) r[l] = _mm512_loadu_ps(p[l] + 16 * blk);
+      transpose(r, F + 16 * blk);
+    }
+    // Numbers 32-35, four leaves a register (z[k], 128-bit lane m: leaf 4 k + m), then
+    // e[j], 128-bit lane m, element k: number 32 + j of leaf 4 k + m; a permutation puts
+    // leaf 4 k + m in lane 4 k + m.
+    V z[4];
+    for (int k = 0; k < 4; ++k) {
+      V a = _mm512_castps128_ps512(_mm_loadu_ps(p[4 * k] + 32));
+      a = _mm512_insertf32x4(a, _mm_loadu_ps(p[4 * k + 1] + 32), 1);
+      a = _mm512_insertf32x4(a, _mm_loadu_ps(p[4 * k + 2] + 32), 2);
+      z[k] = _mm512_insertf32x4(a, _mm_loadu_ps(p[4 * k + 3] + 32), 3);
+    }
+    const V a = _mm512_unpacklo_ps(z[0], z[1]), b = _mm512_unpackhi_ps(z[0], z[1]);
+    const V c = _mm512_unpacklo_ps(z[2], z[3]), d = _mm512_unpackhi_ps(z[2], z[3]);
+    const V e[4] = {_mm512_shuffle_ps(a, c, 0x44), _mm512_shuffle_ps(a, c, 0xEE), _mm512_shuffle_ps(b, d, 0x44),
+                    _mm512_shuffle_ps(b, d, 0xEE)};
+    const __m512i lane_of = _mm512_setr_epi32(0, 4, 8, 12, 1, 5, 9, 13, 2, 6, 10, 14, 3, 7, 11, 15);
+    for (int j = 0; j < 4; ++j) F[32 + j] = _mm512_permutexvar_ps(lane_of, e[j]);
+  }
+};
+
 }  // namespace
 }  // namespace mpumesh::mpu::simd
 
@@ -114,6 +198,10 @@ namespace mpumesh::mpu::simd {
 
 MPUMESH_SIMD_TARGET EvalOut evaluate_avx512(const EvalView& v, const double x[3], int order) {
   return eval_dispatch<Avx512>(v, x, order);
+}
+
+MPUMESH_SIMD_TARGET EvalOut evaluate_f32_avx512(const EvalView& v, const double x[3], int order) {
+  return eval_dispatch<Avx512F>(v, x, order);
 }
 
 }  // namespace mpumesh::mpu::simd

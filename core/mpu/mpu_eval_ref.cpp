@@ -4,6 +4,7 @@
 #include <tbb/parallel_sort.h>
 
 #include "common/error.h"
+#include "common/eval_precision.h"
 #include "common/simd_level.h"
 #include "mpu/mpu_eval_simd.h"
 
@@ -148,12 +149,21 @@ template <int kOrder>
 Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
   Sample out;
   // The vector paths (mpu_eval_simd.h) give this function's bytes, with fewer
-  // instructions; they decline only lookup cells of more candidates than they buffer.
-  if (const SimdLevel level = simd_level(); level != SimdLevel::kGeneric) {
+  // instructions; the single-precision ones (common/eval_precision.h) replace it. Both
+  // decline only lookup cells of more candidates than they buffer, which this function
+  // then evaluates.
+  const SimdLevel level = simd_level();
+  const bool single = eval_precision() == EvalPrecision::kFloat;
+  if (single || level != SimdLevel::kGeneric) {
     MPUMESH_ASSERT(s.grid.spheres.size() == s.leaves.size(), "MPU surface without its sphere index");
     const simd::EvalView view = simd::make_view(s);
-    const simd::EvalOut o = level == SimdLevel::kAvx512 ? simd::evaluate_avx512(view, x.data(), kOrder)
-                                                        : simd::evaluate_avx2(view, x.data(), kOrder);
+    MPUMESH_ASSERT(!single || view.records32 || s.leaves.empty(),
+                   "MPU surface indexed before single precision was chosen (mpu::index_spheres)");
+    const simd::EvalOut o = !single ? (level == SimdLevel::kAvx512 ? simd::evaluate_avx512(view, x.data(), kOrder)
+                                                                   : simd::evaluate_avx2(view, x.data(), kOrder))
+                            : level == SimdLevel::kAvx512 ? simd::evaluate_f32_avx512(view, x.data(), kOrder)
+                            : level == SimdLevel::kAvx2   ? simd::evaluate_f32_avx2(view, x.data(), kOrder)
+                                                          : simd::evaluate_f32_generic(view, x.data(), kOrder);
     if (o.handled) {
       out.f = o.f;
       out.leaves = o.leaves;

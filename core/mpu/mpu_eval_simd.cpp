@@ -35,6 +35,9 @@ EvalView make_view(const MpuSurface& s) {
   v.spheres = s.grid.spheres.empty() ? nullptr : s.grid.spheres.front().data();
   v.leaves = reinterpret_cast<const double*>(s.leaves.data());
   v.leaf_stride = uint32_t(sizeof(Leaf) / sizeof(double));
+  v.records32 = s.grid.records32.size() == s.leaves.size() * LookupGrid::kRecord32 && !s.leaves.empty()
+                    ? s.grid.records32.data()
+                    : nullptr;
   return v;
 }
 
@@ -50,6 +53,14 @@ EvalOut evaluate_avx512(const EvalView&, const double*, int) {
   return {};
 }
 EvalOut evaluate_avx2(const EvalView&, const double*, int) {
+  MPUMESH_ASSERT(false, "the AVX2 evaluation path is not built for this target");
+  return {};
+}
+EvalOut evaluate_f32_avx512(const EvalView&, const double*, int) {
+  MPUMESH_ASSERT(false, "the AVX-512 evaluation path is not built for this target");
+  return {};
+}
+EvalOut evaluate_f32_avx2(const EvalView&, const double*, int) {
   MPUMESH_ASSERT(false, "the AVX2 evaluation path is not built for this target");
   return {};
 }

@@ -39,6 +39,9 @@ struct EvalView {
   const double* spheres;
   const double* leaves;
   uint32_t leaf_stride;  // doubles per leaf
+  // The leaves' first 36 numbers as floats, 36 per leaf (LookupGrid::records32), for the
+  // float kernels; null where the surface has none.
+  const float* records32;
 };
 
 // Result of one evaluation: f, ∇f, the blended Hessian Hb and the Hessian H of f (xx xy
@@ -59,6 +62,11 @@ EvalView make_view(const MpuSurface& s);
 // order 0: f; 1: f and ∇f; 2: f, ∇f and Hb; 3: f, ∇f, Hb and H.
 EvalOut evaluate_avx512(const EvalView& v, const double x[3], int order);
 EvalOut evaluate_avx2(const EvalView& v, const double x[3], int order);
+// The single-precision kernels (common/eval_precision.h): 16 leaves a step, sums in
+// float, the support test in double; the same bytes at each level.
+EvalOut evaluate_f32_avx512(const EvalView& v, const double x[3], int order);
+EvalOut evaluate_f32_avx2(const EvalView& v, const double x[3], int order);
+EvalOut evaluate_f32_generic(const EvalView& v, const double x[3], int order);
 
 }  // namespace simd
 }  // namespace mpumesh::mpu

@@ -1,14 +1,18 @@
 // The vector evaluation kernel of mpu_eval_simd.h, written once over an instruction-set
-// traits class I (mpu_eval_avx512.cpp, mpu_eval_avx2.cpp) whose vectors hold 8 doubles:
-//   V, Mask; set1, zero, add, sub, mul, div, sqrt, lt, le, sel(m, t, f) = m ? t : f,
-//   keep(m, a) = m ? a : +0, first(a) = lane 0, store(p, a) (8 doubles),
+// traits class I (mpu_eval_avx512.cpp, mpu_eval_avx2.cpp, mpu_eval_f32_generic.cpp) whose
+// vectors hold kLanes numbers of type T (8 doubles, or 16 floats):
+//   T, kLanes, V, Mask; set1, zero, add, sub, mul, div, sqrt, lt, le, sel(m, t, f) = m ? t : f,
+//   keep(m, a) = m ? a : +0, first(a) = lane 0, store(p, a) (kLanes T's),
 //   lanes_from(k): the mask of lanes >= k,
-//   load_leaves(p[8], F[36]): F[k] lane l = p[l][k],
-//   support(spheres, ids, count <= 8, px, py, pz, out): appends to out, in order, the ids
-//     whose sphere (cx, cy, cz, R²) holds the point (r² < R²); returns how many.
+//   record(view, id): leaf id's record, 36 T's (mpu_eval_simd.h),
+//   load_leaves(p[kLanes], F[36]): F[k] lane l = p[l][k];
+// and Support, the double-precision traits (itself for the double kernels) whose
+//   support(spheres, ids, count <= 8, px, py, pz, out) appends to out, in order, the ids
+//     whose sphere (cx, cy, cz, R²) holds the point (r² < R²), and returns how many.
 // The including file defines MPUMESH_SIMD_TARGET (the target attribute) first. Every
 // operation below is the one mpu_eval_ref.cpp does, in its order (see the header there),
-// so that the results are its bytes. No lambdas: they would not carry the target.
+// so that the double kernels' results are its bytes, and the float kernels' the same
+// bytes at every level. No lambdas: they would not carry the target.
 #pragma once
 
 #include <cmath>
@@ -25,14 +29,14 @@ struct Sums {
 
 template <class I>
 MPUMESH_SIMD_TARGET inline double lane_total(typename I::V a) {
-  double v[8];
+  typename I::T v[I::kLanes];
   I::store(v, a);
   double t = 0;
-  for (int l = 0; l < 8; ++l) t += v[l];
+  for (int l = 0; l < I::kLanes; ++l) t += v[l];
   return t;
 }
 
-// One block of eight leaves at the point: the offsets from their centres, their weights
+// One block of kLanes leaves at the point: the offsets from their centres, their weights
 // (bspline_weight) and the point in each leaf's scaled frame (u, v, w), with its
 // coefficients c (F + 13).
 template <class I>
@@ -51,11 +55,11 @@ struct LeafBlock {
 // The leaves' data, and the point's offsets from their centres: lanes from `pad_from` on
 // are padding, 4 R away along x, as the reference pads.
 template <class I>
-MPUMESH_SIMD_STEP void load_block(const double* const* p, const double x[3], int pad_from, double pad_dx,
+MPUMESH_SIMD_STEP void load_block(const typename I::T* const* p, const double x[3], int pad_from, double pad_dx,
                                   LeafBlock<I>& b) {
   I::load_leaves(p, b.F);
   b.dx = I::sub(I::set1(x[0]), b.F[0]), b.dy = I::sub(I::set1(x[1]), b.F[1]), b.dz = I::sub(I::set1(x[2]), b.F[2]);
-  if (pad_from < 8) {
+  if (pad_from < I::kLanes) {
     const typename I::Mask pad = I::lanes_from(pad_from);
     b.dx = I::sel(pad, I::set1(pad_dx), b.dx);
     b.dy = I::sel(pad, I::zero(), b.dy);
@@ -257,11 +261,11 @@ MPUMESH_SIMD_STEP void add_derivatives(const LeafBlock<I>& b, typename I::V Qs, 
   }
 }
 
-// Eight leaves' terms at the point, added to the running sums (chunk_terms and
+// A block of leaves' terms at the point, added to the running sums (chunk_terms and
 // chunk_sums of the reference). `pad_from`: lanes from it on are padding, 4 R away along
 // x, as the reference pads; f0 is set from lane 0 when `first`.
 template <class I, int kOrder>
-MPUMESH_SIMD_STEP void leaf_block(const double* const* p, const double x[3], int pad_from, double pad_dx, bool first,
+MPUMESH_SIMD_STEP void leaf_block(const typename I::T* const* p, const double x[3], int pad_from, double pad_dx, bool first,
                                   double& f0, Sums<I>& s) {
   using V = typename I::V;
   LeafBlock<I> b;
@@ -300,36 +304,39 @@ MPUMESH_SIMD_TARGET EvalOut eval_kernel(const EvalView& view, const double x[3])
   uint32_t hid[kMaxCandidates + 16];
   int n = 0;
   {
-    const typename I::V px = I::set1(x[0]), py = I::set1(x[1]), pz = I::set1(x[2]);
+    using S = typename I::Support;
+    const typename S::V px = S::set1(x[0]), py = S::set1(x[1]), pz = S::set1(x[2]);
     for (uint32_t k = k0; k < k1; k += 8)
-      n += I::support(view.spheres, view.leaf_ids + k, int(k1 - k < 8 ? k1 - k : 8), px, py, pz, hid + n);
+      n += S::support(view.spheres, view.leaf_ids + k, int(k1 - k < 8 ? k1 - k : 8), px, py, pz, hid + n);
   }
   if (n == 0) {
     out.f = view.box_size;
     return out;
   }
-  // Every hit's record requested at once (the 288 bytes read span up to six cache lines),
-  // so that the blocks' loads below overlap instead of each block waiting in turn: 12-15%
-  // faster on the CT surface, where the leaves (68 MB) are read from L3 or memory.
-  // (Prefetching the candidates' spheres as well made it slower: those are cached.)
+  // Every hit's record requested at once (a double record's 288 bytes span up to six
+  // cache lines), so that the blocks' loads below overlap instead of each block waiting in
+  // turn: 12-15% faster on the CT surface, where the leaves (68 MB) are read from L3 or
+  // memory. (Prefetching the candidates' spheres as well made it slower: those are cached.)
+  constexpr int kRecordBytes = 36 * int(sizeof(typename I::T));
   for (int j = 0; j < n; ++j) {
-    const char* rec = reinterpret_cast<const char*>(view.leaves + size_t(hid[j]) * view.leaf_stride);
-    for (int line = 0; line < 5; ++line) __builtin_prefetch(rec + 64 * line);
-    __builtin_prefetch(rec + 287);
+    const char* rec = reinterpret_cast<const char*>(I::record(view, hid[j]));
+    for (int line = 0; 64 * line < kRecordBytes; ++line) __builtin_prefetch(rec + 64 * line);
+    __builtin_prefetch(rec + kRecordBytes - 1);
   }
   // The reference pads its last chunk of 32 leaves to whole lanes with that chunk's
   // first leaf, 4 R away along x (zero weight, zero terms).
-  const int padded = (n + 7) / 8 * 8, first_of_chunk = (n - 1) / 32 * 32;
+  constexpr int kLanes = I::kLanes;
+  const int padded = (n + kLanes - 1) / kLanes * kLanes, first_of_chunk = (n - 1) / 32 * 32;
   for (int j = n; j < padded; ++j) hid[j] = hid[first_of_chunk];
-  const double pad_dx = 4 * view.leaves[size_t(hid[first_of_chunk]) * view.leaf_stride + 3];
+  const double pad_dx = 4 * double(I::record(view, hid[first_of_chunk])[3]);
   Sums<I> s;
   s.N = s.D = I::zero();
   for (int i = 0; i < 3; ++i) s.gN[i] = s.gD[i] = I::zero();
   for (int e = 0; e < 6; ++e) s.HbN[e] = s.HN[e] = s.HD[e] = I::zero();
   double f0 = 0;
-  for (int b = 0; b < padded; b += 8) {
-    const double* p[8];
-    for (int l = 0; l < 8; ++l) p[l] = view.leaves + size_t(hid[b + l]) * view.leaf_stride;
+  for (int b = 0; b < padded; b += kLanes) {
+    const typename I::T* p[kLanes];
+    for (int l = 0; l < kLanes; ++l) p[l] = I::record(view, hid[b + l]);
     leaf_block<I, kOrder>(p, x, n - b, pad_dx, b == 0, f0, s);
   }
   out.leaves = n;

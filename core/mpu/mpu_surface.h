@@ -38,6 +38,11 @@ struct LookupGrid {
   // Per leaf: centre and R², a compact copy (32 B per leaf instead of ~280) for the
   // support test that most candidates fail; not stored in the file, rebuilt on reading.
   std::vector<Eigen::Vector4d> spheres;
+  // Per leaf, when the evaluation runs in single precision (common/eval_precision.h): its
+  // first kRecord32 doubles (centre, radius, frame column-major, coefficients, padding)
+  // as floats, for the float kernels; empty otherwise. Rebuilt with the spheres.
+  static constexpr size_t kRecord32 = 36;
+  std::vector<float> records32;
 };
 
 struct MpuSurface {
@@ -53,7 +58,7 @@ struct MpuSurface {
 // Builds the lookup grid: `cells_per_side` cells along each axis of the bounding cube
 // (and the spheres).
 void build_lookup_grid(MpuSurface& s, uint32_t cells_per_side);
-// Fills grid.spheres from the leaves.
+// Fills grid.spheres (and grid.records32 in single precision) from the leaves.
 void index_spheres(MpuSurface& s);
 
 }  // namespace mpumesh::mpu

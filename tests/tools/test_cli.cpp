@@ -137,6 +137,33 @@ TEST(Cli, RunWritesMeshAndReport) {
   EXPECT_NEAR(k[k.size() / 2], 1.0, 0.1);  // median K within 10% of 1/r^2
 }
 
+// The single-precision CPU evaluation (--cpu-eval float32): a closed mesh of the ball
+// whose curvature is the double path's within 10%, the same bytes on one thread and on
+// two, and a bad value refused.
+TEST(Cli, RunInSinglePrecision) {
+  const std::string dir = test::temp_dir("run_f32");
+  const std::string ball = ball_phantom(dir);
+  for (const char* threads : {"1", "2"}) {
+    const Result r = run("run " + ball + " --threshold 0 --particles 1500 --backend cpu --cpu-eval float32 --threads " +
+                         threads + " -o " + dir + "/m" + threads + ".ply --report " + dir + "/r" + threads +
+                         ".json --quiet");
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+  EXPECT_EQ(read_file(dir + "/m1.ply"), read_file(dir + "/m2.ply"));
+  const auto j = nlohmann::json::parse(read_file(dir + "/r1.json"));
+  EXPECT_EQ(j["backend"]["cpu_eval"].get<std::string>(), "float32");
+  EXPECT_TRUE(j["quality"]["closed"].get<bool>());
+  const TriangleMesh m = read_mesh(dir + "/m1.ply");
+  std::vector<double> k;
+  for (const auto& c : m.curvature) k.push_back(c[2] * 36.0);
+  std::sort(k.begin(), k.end());
+  EXPECT_NEAR(k[k.size() / 2], 1.0, 0.1);  // median K within 10% of 1/r^2
+  const Result bad = run("run " + ball + " --threshold 0 --cpu-eval float16 -o " + dir + "/bad.ply");
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.out.find("--cpu-eval"), std::string::npos) << bad.out;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad.ply"));
+}
+
 TEST(Cli, RenderWritesAPictureAndRefusesBadOptions) {
   const std::string dir = test::temp_dir("render");
   write_mesh(test::icosphere(10.0, 3), dir + "/s.ply");

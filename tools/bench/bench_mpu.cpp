@@ -4,7 +4,8 @@
 // throughput (points per second with f, ∇f, the blended Hessian and curvature) for 10^6
 // points near the surface: the CPU path (the widest instruction set, then the others, then
 // with the Hessian of f as well), then each Vulkan device (kernel timestamps and wall time,
-// with the ratio to the CPU path). Usage:
+// with the ratio to the CPU path); the CPU path in single precision at each instruction
+// set, with its largest differences from the double path. Usage:
 //   mpumesh_bench_mpu [VOLUME] [THRESHOLD] [QUERY_POINTS] [REPEATS]
 #include <fmt/format.h>
 #include <tbb/parallel_for.h>
@@ -17,6 +18,7 @@
 #include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "kernels/mpu_eval_vk.h"
+#include "common/eval_precision.h"
 #include "common/simd_level.h"
 #include "mpu/mpu_eval_ref.h"
 #include "mpu/mpu_fit.h"
@@ -108,6 +110,46 @@ double cpu_rows(CpuBackend& cpu, const mpu::MpuSurface& surface, const std::vect
   }
   set_simd_level(chosen);
   return cpu_s;
+}
+
+// The single-precision path (common/eval_precision.h) at each instruction set, against
+// the double path's time `cpu_s` and rows `ref`: the worst |Δf|, normal angle and |ΔK|.
+void float_rows(CpuBackend& cpu, const mpu::MpuSurface& surface, const std::vector<Eigen::Vector3d>& q, int repeats,
+                double cpu_s, const std::vector<mpu::EvalRow>& ref) {
+  const EvalPrecision saved = eval_precision();
+  set_eval_precision(EvalPrecision::kFloat);
+  mpu::MpuSurface single = surface;
+  mpu::index_spheres(single);
+  const SimdLevel chosen = simd_level();
+  for (auto path : {SimdLevel::kAvx512, SimdLevel::kAvx2, SimdLevel::kGeneric}) {
+    if (!simd_level_supported(path)) continue;
+    set_simd_level(path);
+    std::vector<double> tp;
+    std::vector<mpu::EvalRow> rows;
+    for (int r = 0; r < repeats; ++r) {
+      const auto t0 = Clock::now();
+      rows = cpu.mpu_eval(single, q);
+      tp.push_back(sec_since(t0));
+    }
+    // Over all points, and over those within 0.1 mm of f = 0 (where a mesh's vertices lie).
+    double df = 0, dn[2] = {0, 0}, dK[2] = {0, 0}, maxK = 0;
+    for (size_t i = 0; i < rows.size(); ++i) {
+      df = std::max(df, std::abs(rows[i].f - ref[i].f));
+      const Eigen::Vector3d a(ref[i].g), b(rows[i].g);
+      const double n = a.norm() > 0 && b.norm() > 0 ? std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / M_PI : 0;
+      const double k = std::abs(rows[i].gauss - ref[i].gauss);
+      maxK = std::max(maxK, std::abs(ref[i].gauss));
+      for (int at = 0; at < 2; ++at)
+        if (at == 0 || std::abs(ref[i].f) < 0.1) dn[at] = std::max(dn[at], n), dK[at] = std::max(dK[at], k);
+    }
+    const double s_path = median(tp);
+    fmt::print("{:<44} {:>10.3f} {:>14.3g} {:>9.2f}x   (max |df| {:.1e} mm; normal {:.1e} deg, |dK| {:.1e} of max |K|; "
+               "within 0.1 mm {:.1e} deg, {:.1e})\n",
+               cpu.device() + ", float32, " + simd_level_name(path), s_path, double(q.size()) / s_path, cpu_s / s_path,
+               df, dn[0], dK[0] / maxK, dn[1], dK[1] / maxK);
+  }
+  set_simd_level(chosen);
+  set_eval_precision(saved);
 }
 
 // The same points with the Hessian of f as well (mpu::evaluate_hessian: the exact second
@@ -207,6 +249,7 @@ int main(int argc, char** argv) {
     fmt::print("{:<44} {:>10} {:>14} {:>10}\n", "device", "wall s", "points/s", "vs CPU");
     std::vector<mpu::EvalRow> ref;
     const double cpu_s = cpu_rows(cpu, surface, q, repeats, ref);
+    float_rows(cpu, surface, q, repeats, cpu_s, ref);
     hessian_row(cpu, surface, q, repeats, cpu_s);
     gpu_rows(surface, q, repeats, cpu_s, ref);
     leaf_figures(surface, q);
