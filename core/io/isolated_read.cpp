@@ -6,9 +6,11 @@
 #include <signal.h>
 #include <sys/mman.h>
 #include <sys/prctl.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdlib>
@@ -23,6 +25,9 @@ namespace {
 
 constexpr uint32_t kMagic = 0x5256504du;  // "MPVR"
 enum Kind : uint8_t { kVolume = 0, kInputError = 1, kOtherError = 2 };
+// The voxels start at a multiple of this from the record's start, so that the parent's
+// mapping of the record reads them in place.
+constexpr size_t kVoxelAlign = 8;
 
 // ---- the child's record, written to the shared file
 class Writer {
@@ -38,6 +43,7 @@ class Writer {
   }
   void raw(const void* p, size_t n) {
     const char* c = static_cast<const char*>(p);
+    written_ += n;
     while (n > 0) {
       const ssize_t w = ::write(fd_, c, n);
       if (w < 0 && errno == EINTR) continue;
@@ -45,10 +51,38 @@ class Writer {
       c += w, n -= size_t(w);
     }
   }
+  // Zero bytes up to the next multiple of kVoxelAlign from the record's start.
+  void align() {
+    const char zeros[kVoxelAlign] = {};
+    raw(zeros, (kVoxelAlign - written_ % kVoxelAlign) % kVoxelAlign);
+  }
 
  private:
   int fd_;
+  size_t written_ = 0;
 };
+
+// Whether every voxel is an int16 exactly (a CT's, an MR's, a label map's usually; not
+// -0): they then travel as int16, half the bytes to write, map and convert.
+bool integral_int16(const std::vector<float>& v) {
+  for (const float x : v) {
+    if (!(x >= -32768.0f && x <= 32767.0f)) return false;
+    const float back = float(int16_t(x));
+    if (std::memcmp(&back, &x, sizeof x) != 0) return false;
+  }
+  return true;
+}
+
+// The voxels as int16, a block at a time.
+void write_packed(Writer& w, const std::vector<float>& v) {
+  constexpr size_t kBlock = size_t(1) << 16;
+  std::vector<int16_t> block(kBlock);
+  for (size_t at = 0; at < v.size(); at += kBlock) {
+    const size_t n = std::min(kBlock, v.size() - at);
+    for (size_t k = 0; k < n; ++k) block[k] = int16_t(v[at + k]);
+    w.raw(block.data(), n * sizeof(int16_t));
+  }
+}
 
 void write_volume(int fd, const PlainVolume& v) {
   Writer w(fd);
@@ -61,8 +95,13 @@ void write_volume(int fd, const PlainVolume& v) {
   w.put_string(v.modality);
   w.put(uint32_t(v.notes.size()));
   for (const std::string& n : v.notes) w.put_string(n);
-  w.put(uint64_t(v.voxels.size()));
-  w.raw(v.voxels.data(), v.voxels.size() * sizeof(float));
+  const bool native = !v.voxels16.empty(), packed = native || integral_int16(v.voxels);
+  w.put(uint8_t(packed));
+  w.put(uint64_t(native ? v.voxels16.size() : v.voxels.size()));
+  w.align();
+  if (native) w.raw(v.voxels16.data(), v.voxels16.size() * sizeof(int16_t));
+  else if (packed) write_packed(w, v.voxels);
+  else w.raw(v.voxels.data(), v.voxels.size() * sizeof(float));
 }
 
 void write_error(int fd, Kind kind, const std::string& message) {
@@ -97,12 +136,41 @@ class Reader {
       c += r, n -= size_t(r), at_ += size_t(r);
     }
   }
+  size_t at() const { return at_; }
+  void align() { at_ += (kVoxelAlign - at_ % kVoxelAlign) % kVoxelAlign; }
 
  private:
   int fd_;
   const std::string& path_;
   size_t at_ = 0;
 };
+
+// The voxels, `count` of them from byte `at` of the record (int16 when `packed`, else
+// float), read from a mapping of it and converted as they are copied once into `out`
+// (no copy through read(), no zero-filling of the vector first).
+void map_voxels(int fd, size_t at, uint64_t count, bool packed, const std::string& path, std::vector<float>& out) {
+  const size_t bytes = size_t(count) * (packed ? sizeof(int16_t) : sizeof(float));
+  struct stat st;
+  if (::fstat(fd, &st) != 0 || count > uint64_t(st.st_size) || size_t(st.st_size) < at + bytes)
+    throw InputError(path + ": the volume reader's record is cut short");
+  if (count == 0) return out.clear();
+  void* map = ::mmap(nullptr, at + bytes, PROT_READ, MAP_PRIVATE | MAP_POPULATE, fd, 0);
+  if (map == MAP_FAILED) throw InputError(path + ": cannot map the volume reader's record: " + std::strerror(errno));
+  const char* data = static_cast<const char*>(map) + at;
+  try {
+    if (packed) {
+      const auto* v = reinterpret_cast<const int16_t*>(data);
+      out.assign(v, v + count);
+    } else {
+      const auto* v = reinterpret_cast<const float*>(data);
+      out.assign(v, v + count);
+    }
+  } catch (...) {
+    ::munmap(map, at + bytes);
+    throw;
+  }
+  ::munmap(map, at + bytes);
+}
 
 PlainVolume read_record(int fd, const std::string& path) {
   Reader r(fd, path);
@@ -118,9 +186,10 @@ PlainVolume read_record(int fd, const std::string& path) {
   v.modality = r.get_string();
   const uint32_t notes = r.get<uint32_t>();
   for (uint32_t k = 0; k < notes; ++k) v.notes.push_back(r.get_string());
+  const bool packed = r.get<uint8_t>() != 0;
   const uint64_t n = r.get<uint64_t>();
-  v.voxels.resize(size_t(n));
-  r.raw(v.voxels.data(), size_t(n) * sizeof(float));
+  r.align();
+  map_voxels(fd, r.at(), n, packed, path, v.voxels);
   return v;
 }
 

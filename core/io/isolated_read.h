@@ -1,5 +1,7 @@
 // Third-party readers (ITK, GDCM and their codecs) run where their crash cannot reach the
-// caller: in a child process (fork), which hands the volume back through a pipe. A child
+// caller: in a child process (fork), which hands the volume back in a shared in-memory
+// file (its voxels as int16 where each is one exactly: half the bytes) that the caller
+// maps and converts in one copy; a pipe tells the caller when the child has ended. A child
 // that dies by a signal, or runs past the time limit, becomes an InputError naming the
 // file ("the DICOM reader crashed (abort)"); the caller (the command line, the Python
 // interpreter) goes on. An InputError inside the child comes back as the same error.

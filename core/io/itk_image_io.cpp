@@ -20,6 +20,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <type_traits>
 
 #include "common/error.h"
 #include "common/text.h"
@@ -59,7 +60,9 @@ itk::ImageIOBase::Pointer io_for(const std::string& path) {
   return nullptr;
 }
 
-PlainVolume from_itk(const FloatImage* img, const std::string&) {
+// The image's geometry and voxels (float, or int16 into voxels16).
+template <class Image>
+PlainVolume from_itk(const Image* img, const std::string&) {
   PlainVolume v;
   const auto size = img->GetLargestPossibleRegion().GetSize();
   for (int a = 0; a < 3; ++a) {
@@ -68,9 +71,30 @@ PlainVolume from_itk(const FloatImage* img, const std::string&) {
     v.origin[size_t(a)] = img->GetOrigin()[a];
     for (int b = 0; b < 3; ++b) v.direction[size_t(3 * a + b)] = img->GetDirection()(a, b);
   }
-  const float* buf = img->GetBufferPointer();
-  v.voxels.assign(buf, buf + size[0] * size[1] * size[2]);
+  const auto* buf = img->GetBufferPointer();
+  if constexpr (std::is_same_v<typename Image::PixelType, int16_t>)
+    v.voxels16.assign(buf, buf + size[0] * size[1] * size[2]);
+  else
+    v.voxels.assign(buf, buf + size[0] * size[1] * size[2]);
   return v;
+}
+
+// Whether the file's voxels are single 8- or 16-bit integers in a format that applies no
+// rescale on reading (MetaImage, NRRD), so that they are read as int16 exactly.
+bool stored_as_int16(itk::ImageIOBase* io) {
+  if (!dynamic_cast<itk::MetaImageIO*>(io) && !dynamic_cast<itk::NrrdImageIO*>(io)) return false;
+  using C = itk::IOComponentEnum;
+  const C c = io->GetComponentType();
+  return io->GetNumberOfComponents() == 1 && (c == C::SHORT || c == C::CHAR || c == C::UCHAR);
+}
+
+template <class Image>
+PlainVolume read_as(itk::ImageIOBase* io, const std::string& path) {
+  auto reader = itk::ImageFileReader<Image>::New();
+  reader->SetImageIO(io);
+  reader->SetFileName(path);
+  reader->Update();
+  return from_itk(reader->GetOutput(), path);
 }
 
 FloatImage::Pointer to_itk(const PlainVolume& v) {
@@ -234,11 +258,9 @@ PlainVolume itk_read_file(const std::string& path) {
   }
   if (dicom) check_dicom_pixel_data(bytes, path);
   try {
-    auto reader = itk::ImageFileReader<FloatImage>::New();
-    reader->SetImageIO(io);
-    reader->SetFileName(path);
-    reader->Update();
-    PlainVolume v = from_itk(reader->GetOutput(), path);
+    io->SetFileName(path);
+    io->ReadImageInformation();
+    PlainVolume v = stored_as_int16(io) ? read_as<itk::Image<int16_t, 3>>(io, path) : read_as<FloatImage>(io, path);
     if (auto* g = dynamic_cast<itk::GDCMImageIO*>(io.GetPointer())) {
       v.modality = dicom_tag(g->GetMetaDataDictionary(), "0008|0060");
       while (!v.modality.empty() && v.modality.back() == ' ') v.modality.pop_back();

@@ -15,6 +15,10 @@ struct PlainVolume {
   std::array<double, 3> spacing{1, 1, 1}, origin{0, 0, 0};
   std::array<double, 9> direction{1, 0, 0, 0, 1, 0, 0, 0, 1};
   std::vector<float> voxels;
+  // Instead of `voxels`, where the file's own voxels are 16-bit integers and its format
+  // applies no rescale (MetaImage, NRRD): read as they are stored, half the memory of
+  // floats. Empty otherwise.
+  std::vector<int16_t> voxels16;
   std::string modality;
   std::vector<std::string> notes;  // what the libraries said while reading, harmless
 };

@@ -22,7 +22,8 @@ Volume from_plain(PlainVolume&& p, const std::string& source) {
     v.origin[a] = p.origin[size_t(a)];
     for (int b = 0; b < 3; ++b) v.direction(a, b) = p.direction[size_t(3 * a + b)];
   }
-  v.voxels = std::move(p.voxels);
+  if (!p.voxels16.empty()) v.voxels.assign(p.voxels16.begin(), p.voxels16.end());
+  else v.voxels = std::move(p.voxels);
   v.modality = std::move(p.modality);
   v.read_notes = std::move(p.notes);
   return v;

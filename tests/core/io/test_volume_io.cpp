@@ -102,6 +102,32 @@ TEST(VolumeIo, PhantomRoundTripsThroughEveryWriter) {
   EXPECT_THROW(write_volume(v, dir + "/v.mhd"), InputError);
 }
 
+// Files of 8-bit voxels (a label map's usual type), signed and unsigned, in the formats
+// read as stored (MetaImage, NRRD): their values, 0-255 and -128-127.
+TEST(VolumeIo, EightBitFilesReadAsTheirValues) {
+  const std::string dir = test::temp_dir("eight_bit");
+  std::string u8, s8;
+  for (int i = 0; i < 4 * 8 * 8; ++i) u8 += char(uint8_t(i % 256)), s8 += char(int8_t(i % 256 - 128));
+  {
+    std::ofstream f(dir + "/u8.nrrd", std::ios::binary);
+    f << "NRRD0004\ntype: uchar\ndimension: 3\nsizes: 8 8 4\nspacings: 0.5 0.5 2\nencoding: raw\n\n" << u8;
+  }
+  {
+    std::ofstream f(dir + "/s8.mha", std::ios::binary);
+    f << "ObjectType = Image\nNDims = 3\nBinaryData = True\nBinaryDataByteOrderMSB = False\nDimSize = 8 8 4\n"
+         "ElementSpacing = 0.5 0.5 2\nElementType = MET_CHAR\nElementDataFile = LOCAL\n"
+      << s8;
+  }
+  const Volume u = read_volume(dir + "/u8.nrrd"), s = read_volume(dir + "/s8.mha");
+  ASSERT_EQ(u.voxels.size(), 256u);
+  ASSERT_EQ(s.voxels.size(), 256u);
+  for (int i = 0; i < 256; ++i) {
+    EXPECT_EQ(u.voxels[size_t(i)], float(i % 256)) << i;
+    EXPECT_EQ(s.voxels[size_t(i)], float(i % 256 - 128)) << i;
+  }
+  EXPECT_EQ(u.spacing.z(), 2.0);
+}
+
 // The sample project's two masks are InVesalius thresholds of its CT: bone (226-3071 HU)
 // inside a wider range (-142-2986 HU). As a label map the bone is label 1 and the rest
 // of the wider mask label 2, voxel for voxel.
