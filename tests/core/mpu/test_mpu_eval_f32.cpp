@@ -14,6 +14,7 @@
 #include "common/simd_level.h"
 #include "mpu/mpu_eval_ref.h"
 #include "mpu/mpu_fit.h"
+#include "sample_bits.h"
 #include "test_support.h"
 
 namespace mpumesh {
@@ -29,14 +30,8 @@ struct Restore {
   }
 };
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-bool same_sample(const mpu::Sample& a, const mpu::Sample& b) {
-  bool ok = same_bits(a.f, b.f) && a.leaves == b.leaves;
-  for (int i = 0; i < 3; ++i) ok = ok && same_bits(a.g[i], b.g[i]);
-  for (int i = 0; i < 9; ++i) ok = ok && same_bits(a.Hb.data()[i], b.Hb.data()[i]) && same_bits(a.H.data()[i], b.H.data()[i]);
-  return ok;
-}
+using test::same_bits;
+using test::same_sample;
 
 struct Phantom {
   const char* name;
