@@ -145,36 +145,40 @@ double lane_total(const double (&v)[kLanes]) {
   return a;
 }
 
+// The vector paths (mpu_eval_simd.h) give evaluate_impl's bytes, with fewer instructions;
+// the single-precision ones (common/eval_precision.h) replace it. Sets `out` and returns
+// true where one runs; false at the generic level in double precision, and where a
+// kernel declines a lookup cell of more candidates than it buffers (evaluate_impl then
+// evaluates the point).
+template <int kOrder>
+bool vector_path(const MpuSurface& s, const Eigen::Vector3d& x, Sample& out) {
+  const SimdLevel level = simd_level();
+  const bool single = eval_precision() == EvalPrecision::kFloat;
+  if (!single && level == SimdLevel::kGeneric) return false;
+  MPUMESH_ASSERT(s.grid.spheres.size() == s.leaves.size(), "MPU surface without its sphere index");
+  const simd::EvalView view = simd::make_view(s);
+  MPUMESH_ASSERT(!single || view.records32 || s.leaves.empty(),
+                 "MPU surface indexed before single precision was chosen (mpu::index_spheres)");
+  const simd::EvalOut o = !single ? (level == SimdLevel::kAvx512 ? simd::evaluate_avx512(view, x.data(), kOrder)
+                                                                 : simd::evaluate_avx2(view, x.data(), kOrder))
+                          : level == SimdLevel::kAvx512 ? simd::evaluate_f32_avx512(view, x.data(), kOrder)
+                          : level == SimdLevel::kAvx2   ? simd::evaluate_f32_avx2(view, x.data(), kOrder)
+                                                        : simd::evaluate_f32_generic(view, x.data(), kOrder);
+  if (!o.handled) return false;
+  out.f = o.f;
+  out.leaves = o.leaves;
+  if constexpr (kOrder >= 1) out.g = Eigen::Vector3d(o.g[0], o.g[1], o.g[2]);
+  for (int e = 0; e < 6; ++e) {
+    if constexpr (kOrder >= 2) out.Hb(kI[e], kJ[e]) = out.Hb(kJ[e], kI[e]) = o.Hb[e];
+    if constexpr (kOrder >= 3) out.H(kI[e], kJ[e]) = out.H(kJ[e], kI[e]) = o.H[e];
+  }
+  return true;
+}
+
 template <int kOrder>
 Sample evaluate_impl(const MpuSurface& s, const Eigen::Vector3d& x) {
   Sample out;
-  // The vector paths (mpu_eval_simd.h) give this function's bytes, with fewer
-  // instructions; the single-precision ones (common/eval_precision.h) replace it. Both
-  // decline only lookup cells of more candidates than they buffer, which this function
-  // then evaluates.
-  const SimdLevel level = simd_level();
-  const bool single = eval_precision() == EvalPrecision::kFloat;
-  if (single || level != SimdLevel::kGeneric) {
-    MPUMESH_ASSERT(s.grid.spheres.size() == s.leaves.size(), "MPU surface without its sphere index");
-    const simd::EvalView view = simd::make_view(s);
-    MPUMESH_ASSERT(!single || view.records32 || s.leaves.empty(),
-                   "MPU surface indexed before single precision was chosen (mpu::index_spheres)");
-    const simd::EvalOut o = !single ? (level == SimdLevel::kAvx512 ? simd::evaluate_avx512(view, x.data(), kOrder)
-                                                                   : simd::evaluate_avx2(view, x.data(), kOrder))
-                            : level == SimdLevel::kAvx512 ? simd::evaluate_f32_avx512(view, x.data(), kOrder)
-                            : level == SimdLevel::kAvx2   ? simd::evaluate_f32_avx2(view, x.data(), kOrder)
-                                                          : simd::evaluate_f32_generic(view, x.data(), kOrder);
-    if (o.handled) {
-      out.f = o.f;
-      out.leaves = o.leaves;
-      if constexpr (kOrder >= 1) out.g = Eigen::Vector3d(o.g[0], o.g[1], o.g[2]);
-      for (int e = 0; e < 6; ++e) {
-        if constexpr (kOrder >= 2) out.Hb(kI[e], kJ[e]) = out.Hb(kJ[e], kI[e]) = o.Hb[e];
-        if constexpr (kOrder >= 3) out.H(kI[e], kJ[e]) = out.H(kJ[e], kI[e]) = o.H[e];
-      }
-      return out;
-    }
-  }
+  if (vector_path<kOrder>(s, x, out)) return out;
   size_t cell;
   if (!grid_cell(s, x, cell)) {
     out.f = s.box_size;
