@@ -164,5 +164,27 @@ TEST(LabelTruth, SampleProjectMasksHaveNoTerraces) {
   }
 }
 
+// The sample project's bone mask alone (its other label taken as background): the shape
+// the head CT gives at the bone threshold (226 HU), meshed no denser than the grey-volume
+// rule meshes the CT. (Next to another label a label's surface lies a quarter voxel
+// inside it, segment/label_map.h, so in the two-label map a plate of bone one voxel thick
+// between soft tissue on both sides is half a voxel thick, and its spacing follows.)
+TEST(LabelTruth, SampleProjectBoneMaskIsNoDenserThanTheScan) {
+  MPUMESH_SAMPLE_CT_OR_SKIP(ct);
+  const std::string dir = test::temp_dir("label_bone");
+  const Result c = run("convert " + ct + " --masks --quiet -o " + dir + "/masks.nii.gz");
+  ASSERT_EQ(c.code, 0) << c.out;
+  Volume bone = read_volume(dir + "/masks.nii.gz");
+  for (float& x : bone.voxels) x = x == 1.0f ? 1.0f : 0.0f;
+  write_volume(bone, dir + "/bone.nii.gz");
+  const Result r = run("run " + dir + "/bone.nii.gz --label 1 --backend cpu --quiet -o " + dir + "/bone.ply");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Result g = run("run " + ct + " --threshold 226 --backend cpu --quiet -o " + dir + "/grey.ply");
+  ASSERT_EQ(g.code, 0) << g.out;
+  const TriangleMesh m = read_mesh(dir + "/bone.ply");
+  EXPECT_TRUE(analyze_topology(m).closed);
+  EXPECT_LE(m.triangles.size(), read_mesh(dir + "/grey.ply").triangles.size());
+}
+
 }  // namespace
 }  // namespace mpumesh

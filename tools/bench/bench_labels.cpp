@@ -11,7 +11,10 @@
 // With --real MAP: `mpumesh run MAP --labels all --separate`, and for each label its triangles,
 // closedness, the slice-phase modulation, and Mesh_3's on that label alone at our count.
 // --grey VOLUME:THRESHOLD:LABEL adds the count that the grey-volume rule gives for the
-// label's structure (the volume thresholded).
+// label's structure (the volume thresholded), and ours on the same shape: the label alone,
+// the other labels taken as background (next to another label a label's surface lies a
+// quarter voxel inside it, segment/label_map.h, which halves a plate one voxel thick
+// between two others).
 // MPUMESH_BENCH_LABELS_ARGS: options added to our label-map runs (to measure other settings).
 // --no-mesh3 leaves Mesh_3 out of the real map's rows (it takes minutes per label there).
 // Usage:
@@ -119,8 +122,16 @@ void bench_grey(const std::string& grey, const std::string& backend, const Volum
   const std::string out = (dir / "grey.ply").string(), threshold = grey.substr(a + 1, b - a - 1);
   const double t = bench::timed_system(fmt::format("{} run {} --threshold {} --backend {} --quiet -o {}", MPUMESH_BIN,
                                                    grey.substr(0, a), threshold, backend, out));
-  print_real_row(grey.substr(b + 1), "ours, grey", read_mesh(out), map, t);
-  fmt::print("  (ours, grey: the grey volume at threshold {})\n", threshold);
+  const std::string label = grey.substr(b + 1);
+  const std::string alone = (dir / "alone.nii.gz").string(), alone_out = (dir / "alone.ply").string();
+  write_volume(only_label(map, std::stoll(label)), alone);
+  const double t_alone = bench::timed_system(fmt::format("{} run {} --label 1 --backend {} --quiet -o {}{}", MPUMESH_BIN,
+                                                         alone, backend, alone_out, bench::extra_args(kExtraArgs)));
+  print_real_row(label, "ours, alone", read_mesh(alone_out), map, t_alone);
+  print_real_row(label, "ours, grey", read_mesh(out), map, t);
+  fmt::print("  (ours, alone: the label's voxels alone, the others taken as background, the shape the threshold "
+             "gives; ours, grey: the grey volume at threshold {})\n",
+             threshold);
 }
 
 void bench_real(const Args& args, const fs::path& root) {
