@@ -112,7 +112,8 @@ void print_real_row(const std::string& label, const std::string& name, const Tri
   std::fflush(stdout);
 }
 
-// VOLUME:THRESHOLD:LABEL: the grey-volume rule's count for the label's structure.
+// VOLUME:THRESHOLD:LABEL: the grey-volume rule's count for the label's structure, and ours
+// on the label's voxels alone, the same shape.
 void bench_grey(const std::string& grey, const std::string& backend, const Volume& map, const fs::path& dir) {
   const size_t b = grey.rfind(':'), a = b == std::string::npos || b == 0 ? std::string::npos : grey.rfind(':', b - 1);
   if (a == std::string::npos) {
