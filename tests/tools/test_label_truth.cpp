@@ -17,6 +17,7 @@
 #include "mesh/topology.h"
 #include "phantom/ct_phantom.h"
 #include "phantom/truth_figures.h"
+#include "segment/label_map.h"
 
 namespace mpumesh {
 namespace {
@@ -174,8 +175,7 @@ TEST(LabelTruth, SampleProjectBoneMaskIsNoDenserThanTheScan) {
   const std::string dir = test::temp_dir("label_bone");
   const Result c = run("convert " + ct + " --masks --quiet -o " + dir + "/masks.nii.gz");
   ASSERT_EQ(c.code, 0) << c.out;
-  Volume bone = read_volume(dir + "/masks.nii.gz");
-  for (float& x : bone.voxels) x = x == 1.0f ? 1.0f : 0.0f;
+  const Volume bone = seg::label_indicator(read_volume(dir + "/masks.nii.gz"), 1, 0.0f);
   write_volume(bone, dir + "/bone.nii.gz");
   const Result r = run("run " + dir + "/bone.nii.gz --label 1 --backend cpu --quiet -o " + dir + "/bone.ply");
   ASSERT_EQ(r.code, 0) << r.out;

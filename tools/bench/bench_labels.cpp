@@ -97,12 +97,6 @@ void bench_phantom(const phantom::Phantom& ph, const std::string& backend, const
   std::fflush(stdout);
 }
 
-Volume only_label(const Volume& v, int64_t label) {
-  Volume out = v;
-  for (float& x : out.voxels) x = std::lround(x) == label ? 1.f : 0.f;
-  return out;
-}
-
 void print_real_row(const std::string& label, const std::string& name, const TriangleMesh& m, const Volume& map,
                     double seconds) {
   const Quality q = measure_quality(m, {.self_intersections = false});
@@ -125,7 +119,7 @@ void bench_grey(const std::string& grey, const std::string& backend, const Volum
                                                    grey.substr(0, a), threshold, backend, out));
   const std::string label = grey.substr(b + 1);
   const std::string alone = (dir / "alone.nii.gz").string(), alone_out = (dir / "alone.ply").string();
-  write_volume(only_label(map, std::stoll(label)), alone);
+  write_volume(seg::label_indicator(map, std::stoll(label), 0.0f), alone);
   const double t_alone = bench::timed_system(fmt::format("{} run {} --label 1 --backend {} --quiet -o {}{}", MPUMESH_BIN,
                                                          alone, backend, alone_out, bench::extra_args(kExtraArgs)));
   print_real_row(label, "ours, alone", read_mesh(alone_out), map, t_alone);
@@ -162,7 +156,7 @@ void bench_real(const Args& args, const fs::path& root) {
   for (const auto& [label, mesh] : ours) {
     bench::Mesh3Params m3;
     m3.labels = true;
-    const bench::Mesh3Result cg = bench::cgal_mesh3_matching(only_label(map, label), m3, mesh);
+    const bench::Mesh3Result cg = bench::cgal_mesh3_matching(seg::label_indicator(map, label, 0.0f), m3, mesh);
     print_real_row(std::to_string(label), "CGAL Mesh_3", cg.mesh, map, cg.seconds);
   }
 }
