@@ -36,6 +36,12 @@ void add_complex_summary(report::HtmlPage& page, const ComplexReportInputs& in) 
       "({:.2f} mm3 in all).",
       f.junction_curves, f.junction_edges, f.junction_length_mm, f.crossing_pairs, r.shells_removed, r.specks.merged,
       r.specks.volume_mm3)));
+  if (!r.from_mesh)
+    page.paragraph(report::escape_html(fmt::format(
+        "Each label made to hold its voxels' volume: the worst label {:.2f}% off before, {:.2f}% after; the "
+        "interfaces moved {:.3f} mm at most, {} vertices held for their triangles' angles or crossings.",
+        100 * r.volume_match.worst_before, 100 * r.volume_match.worst_after, r.volume_match.largest_shift_mm,
+        r.volume_match.frozen)));
 }
 
 // A label's tetrahedra: how many, their volume, smallest dihedral overall, next to the

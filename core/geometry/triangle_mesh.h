@@ -50,4 +50,16 @@ inline std::vector<double> mean_edge_lengths(const TriangleMesh& m) {
   return sum;
 }
 
+// The triangles of `now` that differ from those of `was` (the same mesh before some
+// vertices moved or edges flipped): other vertices, or one of them moved.
+inline std::vector<uint32_t> changed_triangles(const TriangleMesh& now, const TriangleMesh& was) {
+  std::vector<uint32_t> out;
+  for (uint32_t t = 0; t < now.triangles.size(); ++t) {
+    bool same = now.triangles[t] == was.triangles[t];
+    for (uint32_t v : now.triangles[t]) same = same && now.vertices[v] == was.vertices[v];
+    if (!same) out.push_back(t);
+  }
+  return out;
+}
+
 }  // namespace mpumesh

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <iterator>
+#include <set>
 
 #include "common/error.h"
 
@@ -192,6 +193,17 @@ std::vector<std::pair<uint32_t, uint32_t>> crossing_pairs(const TriangleMesh& a,
 }
 
 int64_t count_crossings(const TriangleMesh& a, const TriangleMesh& b) { return int64_t(crossing_pairs(a, b).size()); }
+
+std::vector<std::pair<uint32_t, uint32_t>> new_intersections(const TriangleMesh& now, const TriangleMesh& was,
+                                                             const std::vector<uint32_t>& changed) {
+  if (changed.empty()) return {};
+  const auto before = intersecting_triangles(was, &changed, true);
+  const std::set<std::pair<uint32_t, uint32_t>> old(before.begin(), before.end());
+  std::vector<std::pair<uint32_t, uint32_t>> out;
+  for (const auto& p : intersecting_triangles(now, &changed, true))
+    if (!old.count(p)) out.push_back(p);
+  return out;
+}
 
 int64_t count_self_intersections(const TriangleMesh& mesh) {
   return int64_t(intersecting_triangles(mesh, nullptr).size());

@@ -20,6 +20,11 @@ std::vector<std::pair<uint32_t, uint32_t>> intersecting_triangles(const Triangle
                                                                  const std::vector<uint32_t>* among = nullptr,
                                                                  bool adjacent = true);
 
+// The intersecting pairs (adjacent ones included) with a triangle among `changed` that
+// `was` (the same triangles, before some vertices moved) did not have.
+std::vector<std::pair<uint32_t, uint32_t>> new_intersections(const TriangleMesh& now, const TriangleMesh& was,
+                                                             const std::vector<uint32_t>& changed);
+
 // Pairs (triangle of `a`, triangle of `b`) that meet, sorted: two meshes that should not
 // touch, such as two labels' surfaces.
 std::vector<std::pair<uint32_t, uint32_t>> crossing_pairs(const TriangleMesh& a, const TriangleMesh& b);

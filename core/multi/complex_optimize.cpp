@@ -7,7 +7,6 @@
 #include <cmath>
 #include <map>
 #include <optional>
-#include <set>
 #include <span>
 #include <unordered_set>
 
@@ -260,28 +259,6 @@ double smallest_angle_deg(const std::vector<Eigen::Vector3d>& V, const std::vect
   return T.empty() ? 0 : m * 180 / kPi;
 }
 
-// The triangles that differ from the original's (moved vertex or flipped).
-std::vector<uint32_t> changed_triangles(const TriangleMesh& now, const TriangleMesh& was) {
-  std::vector<uint32_t> out;
-  for (uint32_t t = 0; t < now.triangles.size(); ++t) {
-    bool same = now.triangles[t] == was.triangles[t];
-    for (uint32_t v : now.triangles[t]) same = same && now.vertices[v] == was.vertices[v];
-    if (!same) out.push_back(t);
-  }
-  return out;
-}
-
-// The intersecting pairs (adjacent ones included) among `changed` that `was` did not have.
-std::vector<std::pair<uint32_t, uint32_t>> new_intersections(const TriangleMesh& now, const TriangleMesh& was,
-                                                             const std::vector<uint32_t>& changed) {
-  const auto before = intersecting_triangles(was, &changed, true);
-  const std::set<std::pair<uint32_t, uint32_t>> old(before.begin(), before.end());
-  std::vector<std::pair<uint32_t, uint32_t>> out;
-  for (const auto& p : intersecting_triangles(now, &changed, true))
-    if (!old.count(p)) out.push_back(p);
-  return out;
-}
-
 // Up to this many tries: a try whose changed triangles intersect others has their
 // vertices frozen and starts again from the complex as it was.
 constexpr int kTries = 3;
@@ -313,8 +290,7 @@ void optimize_complex(const MaterialField& field, TriangleMesh& complex, int rou
       ++st.rounds;
     }
     const std::vector<uint32_t> changed = changed_triangles(complex, original);
-    std::vector<std::pair<uint32_t, uint32_t>> crossing;
-    if (!changed.empty()) crossing = new_intersections(complex, original, changed);
+    const std::vector<std::pair<uint32_t, uint32_t>> crossing = new_intersections(complex, original, changed);
     clean = crossing.empty();
     for (const auto& [i, j] : crossing)
       for (uint32_t t : {i, j})

@@ -17,6 +17,7 @@
 #include "multi/complex_specks.h"
 #include "multi/complex_tetrahedralize.h"
 #include "multi/material_field.h"
+#include "multi/volume_match.h"
 
 namespace mpumesh::pipeline {
 namespace {
@@ -361,6 +362,10 @@ ComplexResult run_complex(const Volume& vol, const std::vector<int64_t>& labels,
   const multi::MaterialField field(sorted, fit_of, union_run ? &union_run->surface : nullptr, &support,
                                    multi::kLabelDepthVoxels * vol.in_plane_spacing());
   mesh_complex(field, seeds, /*resolve_gaps=*/false, base.speck_voxels * voxel_mm3, open_backend(), obs, out);
+  std::map<int64_t, double> voxel_volumes;
+  for (const ComplexRegion& r : out.regions) voxel_volumes[r.label] = r.reference_volume_mm3;
+  out.volume_match = multi::match_label_volumes(out.complex.mesh, voxel_volumes,
+                                                multi::kVolumeShiftVoxels * vol.in_plane_spacing());
   out.figures = multi::measure_complex(out.complex.mesh);
   out.seconds_complex = timer.lap();
   fill_complex(base, vol.source, obs, out);

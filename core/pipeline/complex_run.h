@@ -19,6 +19,7 @@
 #include "multi/complex_sampling.h"
 #include "multi/complex_specks.h"
 #include "multi/material_delaunay.h"
+#include "multi/volume_match.h"
 #include "pipeline/label_runs.h"
 
 namespace mpumesh::pipeline {
@@ -44,6 +45,8 @@ struct ComplexResult {
   // each merged into a neighbour (multi/complex_specks.h).
   multi::SpeckStats specks;
   multi::ComplexOptimizeStats optimization;
+  // A label map's labels moved to hold the volumes of their voxels (multi/volume_match.h).
+  multi::VolumeMatchStats volume_match;
   multi::ComplexFigures figures;
   // RunOptions::volume_mesh: one volume mesh of the complex, a region per label
   // (multi/complex_tetrahedralize.h).
