@@ -192,6 +192,8 @@ class CapBuilder {
     return std::isinf(d) ? std::nan("") : -(std::sqrt(d) - half_pixel_);
   }
   double curved_rise(SliceMaps& behind, SliceMaps* behind2, int64_t p, double d_from, double d_to) const;
+  std::vector<uint8_t> closing_holes(const SliceMaps& from, const SliceMaps& to) const;
+  double bowl_rise(SliceMaps* beyond, SliceMaps* beyond2, int64_t p, double d_to) const;
   bool any_cap(const SliceMaps& from, const SliceMaps& to) const;
   void add_caps(SliceMaps& from, SliceMaps& to, double dir, Part& part, int32_t k) const;
 
@@ -273,6 +275,53 @@ double CapBuilder::curved_rise(SliceMaps& behind, SliceMaps* behind2, int64_t p,
   return parabola_zero(-2, {db2, db, d_from}, dome);
 }
 
+// The pixels of `to`'s outside whose piece of it (8-connected, as an outside is where the
+// inside is 4-connected) meets no outside of `from`: a hole of the region that closes
+// between the two slices, the bottom of a bowl. There `from`'s nearest contour is another
+// surface (the bowl's outer wall), and the height is the hole's, as a dome's is.
+std::vector<uint8_t> CapBuilder::closing_holes(const SliceMaps& from, const SliceMaps& to) const {
+  std::vector<uint8_t> seen(size_t(g_.n), 0), out(size_t(g_.n), 0);
+  std::vector<int64_t> stack, members;
+  for (int64_t start = 0; start < g_.n; ++start) {
+    if (to.mask[size_t(start)] || seen[size_t(start)]) continue;
+    bool opens = false;
+    members.clear();
+    stack.assign(1, start);
+    seen[size_t(start)] = 1;
+    while (!stack.empty()) {
+      const int64_t p = stack.back();
+      stack.pop_back();
+      members.push_back(p);
+      opens = opens || !from.mask[size_t(p)];
+      const int64_t i = p % g_.px, j = p / g_.px;
+      for (int64_t b = std::max<int64_t>(j - 1, 0); b <= std::min(j + 1, g_.py - 1); ++b)
+        for (int64_t a = std::max<int64_t>(i - 1, 0); a <= std::min(i + 1, g_.px - 1); ++a) {
+          const int64_t q = a + g_.px * b;
+          if (to.mask[size_t(q)] || seen[size_t(q)]) continue;
+          seen[size_t(q)] = 1;
+          stack.push_back(q);
+        }
+    }
+    if (!opens)
+      for (const int64_t p : members) out[size_t(p)] = 1;
+  }
+  return out;
+}
+
+// The bottom of a bowl (closing_holes), in slices from `from` toward `to`: the hole's
+// in-plane signed distance as a parabola in z through the two slices beyond `to` and `to`,
+// extrapolated to its zero toward `from`; else from `to` down at 45 degrees to the
+// mid-plane, as a dome top rises.
+double CapBuilder::bowl_rise(SliceMaps* beyond, SliceMaps* beyond2, int64_t p, double d_to) const {
+  const double bowl = 0.5 * std::min(1.0, d_to / g_.sz);
+  double down = bowl;
+  if (beyond && beyond2) {
+    const double hb = -signed_distance(*beyond, p), hb2 = -signed_distance(*beyond2, p);
+    if (std::isfinite(hb) && std::isfinite(hb2)) down = parabola_zero(-2, {hb2, hb, d_to}, bowl);
+  }
+  return 1.0 - down;
+}
+
 // Whether any pixel inside `from` and outside `to` lies a slice spacing or more from
 // `to`'s region (a disk test on the few changed pixels, before any distance transform).
 bool CapBuilder::any_cap(const SliceMaps& from, const SliceMaps& to) const {
@@ -309,14 +358,30 @@ void CapBuilder::add_caps(SliceMaps& from, SliceMaps& to, double dir, Part& part
   const bool curved2 = curved && from.pk - 2 * step >= 0 && from.pk - 2 * step <= g_.nz + 1;
   if (curved) load(behind, from.pk - step);
   if (curved2) load(behind2, from.pk - 2 * step);
+  // A bowl's bottom (curved caps only): the slices beyond `to`, for its hole's height.
+  std::vector<uint8_t> bowl;
+  SliceMaps beyond, beyond2;
+  const bool bowls = curved && to.pk + 2 * step >= 0 && to.pk + 2 * step <= g_.nz + 1;
+  if (curved) {
+    bowl = closing_holes(from, to);
+    if (bowls && std::find(bowl.begin(), bowl.end(), uint8_t(1)) != bowl.end()) {
+      load(beyond, to.pk + step);
+      load(beyond2, to.pk + 2 * step);
+    }
+  }
   for (int64_t j = 0; j < g_.py; ++j)
     for (int64_t i = 0; i < g_.px; ++i) {
       const int64_t p = i + g_.px * j;
       if (!from.mask[size_t(p)] || d_region[size_t(p)] < min_sq_) continue;
       const double d_from = std::max(std::sqrt(double(d_edge[size_t(p)])) - half_pixel_, 0.0);
       const double d_to = std::sqrt(double(d_region[size_t(p)])) - half_pixel_;
-      double rise = curved ? curved_rise(behind, curved2 ? &behind2 : nullptr, p, d_from, d_to)
-                     : std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / g_.sz) : d_from / (d_from + d_to);
+      double rise = 0;
+      if (curved && bowl[size_t(p)] && std::isfinite(d_to))
+        rise = bowl_rise(beyond.pk >= 0 ? &beyond : nullptr, beyond2.pk >= 0 ? &beyond2 : nullptr, p, d_to);
+      else if (curved)
+        rise = curved_rise(behind, curved2 ? &behind2 : nullptr, p, d_from, d_to);
+      else
+        rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / g_.sz) : d_from / (d_from + d_to);
       const double pv = opt_.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
       if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
       if (opt_.caps_to_field_crossing) {

@@ -11,6 +11,8 @@
 #include "io/point_io.h"
 #include "phantom/ct_phantom.h"
 #include "points/slice_points.h"
+#include "segment/label_map.h"
+#include "segment/segmentation.h"
 #include "test_support.h"
 
 namespace mpumesh {
@@ -117,6 +119,41 @@ TEST(Points, CapHeightsFollowThePartialVolume) {
   std::printf("[ caps ] mean distance to the true caps: %.3f mm from the partial volume, %.3f mm ruled\n", grey, ruled);
   EXPECT_LE(grey, 0.1 * vol.in_plane_spacing() + 0.05);
   EXPECT_LT(grey, 0.5 * ruled);
+}
+
+// A label map's bowl: a slab (z < 18 mm) with a ball of 10 mm radius hollowed out of its
+// top (its centre 20.6 mm up, so the bowl's bottom is at 10.6 mm), in 2 mm slices of
+// 0.7 mm pixels. At the bottom the hole opens between the slices at 10 and 12 mm; the
+// slice at 10 mm holds no hole, so its nearest contour is the slab's outer edge, another
+// surface. The caps there take the hole's own height, as a dome top's rises from its
+// slice: within 0.6 mm of the sphere on average (0.49 measured; 0.86 between the two
+// slices' contours, the slab's edge taken for the bowl's).
+TEST(Points, LabelMapBowlBottomTakesTheHolesHeight) {
+  const Eigen::Vector3d c(14, 14, 20.6);
+  const Volume map = test::label_volume({40, 40, 12}, {0.7, 0.7, 2.0}, [&](const Eigen::Vector3d& p) {
+    return p.z() < 18 && (p - c).norm() > 10 ? 1.0f : 0.0f;
+  });
+  const Volume indicator = seg::label_indicator(map, 1, 0.0f);
+  CpuBackend cpu;
+  seg::SegmentOptions so;
+  so.method = seg::Method::kThreshold;
+  so.threshold = mc::ThresholdRange{0.5};
+  pts::PointOptions po;  // as a label's run sets them (pipeline/run_pipeline.cpp)
+  po.partial_volume_caps = false;
+  po.curved_caps = true;
+  po.caps_to_field_crossing = true;
+  const pts::SlicePoints p = pts::extract_points(seg::segment(indicator, so, cpu), indicator, po);
+  double sum = 0;
+  int64_t n = 0;
+  for (size_t i = 0; i < p.cloud.size(); ++i) {
+    const Eigen::Vector3d& x = p.cloud.positions[i];
+    if (!p.is_cap[i] || x.z() < 9 || x.z() > 13 || std::hypot(x.x() - c.x(), x.y() - c.y()) > 3) continue;
+    sum += std::abs((x - c).norm() - 10), ++n;
+  }
+  std::printf("[ caps ] a bowl's bottom: %lld caps, %.3f mm from the sphere on average\n", (long long)n,
+              sum / double(std::max<int64_t>(n, 1)));
+  EXPECT_GT(n, 20);
+  EXPECT_LT(sum / double(std::max<int64_t>(n, 1)), 0.6);
 }
 
 TEST(Points, StructureCutByTheScanIsCapped) {
