@@ -39,7 +39,8 @@ void add_complex_summary(report::HtmlPage& page, const ComplexReportInputs& in) 
   if (!r.from_mesh)
     page.paragraph(report::escape_html(fmt::format(
         "Each label made to hold its voxels' volume: the worst label {:.2f}% off before, {:.2f}% after; the "
-        "interfaces moved {:.3f} mm at most, {} vertices held for their triangles' angles or crossings.",
+        "interfaces moved {:.3f} mm at most, {} vertices held for their triangles' angles, their wedges at "
+        "junctions or crossings.",
         100 * r.volume_match.worst_before, 100 * r.volume_match.worst_after, r.volume_match.largest_shift_mm,
         r.volume_match.frozen)));
 }

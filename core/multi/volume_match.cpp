@@ -143,18 +143,20 @@ Eigen::VectorXd constants(const Measure& m, const Regions& r) {
     }
   }
   Eigen::VectorXd c = Eigen::VectorXd::Zero(n + 1);
-  // A label with no interface (none here after a merge) stays: its row is zero.
+  // A label left with no interface (all its pieces merged as specks) keeps its place: its
+  // row would be zero.
   for (int a = 1; a <= n; ++a)
     if (!(L(a - 1, a - 1) > 0)) L(a - 1, a - 1) = 1, rhs(a - 1) = 0;
   c.tail(n) = L.ldlt().solve(rhs);
   return c;
 }
 
+void keep_shape(const TriangleMesh& complex, const std::vector<Wedge>& wedges, std::vector<Eigen::Vector3d>& moved,
+                std::vector<char>& frozen);
+
 // One round: each vertex not frozen moved by its least-squares displacement (above), at
 // most its faces' largest |s|, and in all rounds together (from `start`) at most
 // kEdgeFraction of its shortest edge.
-void keep_shape(const TriangleMesh& complex, const std::vector<Wedge>& wedges, std::vector<Eigen::Vector3d>& moved,
-                std::vector<char>& frozen);
 
 void move_round(TriangleMesh& complex, const std::vector<Eigen::Vector3d>& start, const Regions& r,
                 const std::vector<Wedge>& wedges, const Eigen::VectorXd& c, double max_shift, std::vector<char>& frozen,
