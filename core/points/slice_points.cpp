@@ -191,6 +191,9 @@ class CapBuilder {
     const double d = double(region_d2(m)[size_t(p)]);
     return std::isinf(d) ? std::nan("") : -(std::sqrt(d) - half_pixel_);
   }
+  // A dome's top between two slices, from its slice's contour at in-plane distance d: up at
+  // 45 degrees to the mid-plane (slices).
+  double dome_rise(double d) const { return 0.5 * std::min(1.0, d / g_.sz); }
   double curved_rise(SliceMaps& behind, SliceMaps* behind2, int64_t p, double d_from, double d_to) const;
   std::vector<uint8_t> closing_holes(const SliceMaps& from, const SliceMaps& to) const;
   double bowl_rise(SliceMaps* beyond, SliceMaps* beyond2, int64_t p, double d_to) const;
@@ -268,7 +271,7 @@ double CapBuilder::curved_rise(SliceMaps& behind, SliceMaps* behind2, int64_t p,
     if (std::isnan(db)) return linear;
     return parabola_zero(-1, {db, d_from, -d_to}, linear);
   }
-  const double dome = 0.5 * std::min(1.0, d_from / g_.sz);
+  const double dome = dome_rise(d_from);
   if (!behind2 || std::isnan(db)) return dome;
   const double db2 = signed_distance(*behind2, p);
   if (std::isnan(db2)) return dome;
@@ -313,7 +316,7 @@ std::vector<uint8_t> CapBuilder::closing_holes(const SliceMaps& from, const Slic
 // extrapolated to its zero toward `from`; else from `to` down at 45 degrees to the
 // mid-plane, as a dome top rises.
 double CapBuilder::bowl_rise(SliceMaps* beyond, SliceMaps* beyond2, int64_t p, double d_to) const {
-  const double bowl = 0.5 * std::min(1.0, d_to / g_.sz);
+  const double bowl = dome_rise(d_to);
   double down = bowl;
   if (beyond && beyond2) {
     const double hb = -signed_distance(*beyond, p), hb2 = -signed_distance(*beyond2, p);
@@ -381,7 +384,7 @@ void CapBuilder::add_caps(SliceMaps& from, SliceMaps& to, double dir, Part& part
       else if (curved)
         rise = curved_rise(behind, curved2 ? &behind2 : nullptr, p, d_from, d_to);
       else
-        rise = std::isinf(d_to) ? 0.5 * std::min(1.0, d_from / g_.sz) : d_from / (d_from + d_to);
+        rise = std::isinf(d_to) ? dome_rise(d_from) : d_from / (d_from + d_to);
       const double pv = opt_.partial_volume_caps ? partial_volume_rise(from, to, i, j) : -1.0;
       if (pv >= 0 && std::abs(pv - rise) < kMaxPartialVolumeShift) rise = pv;
       if (opt_.caps_to_field_crossing) {
