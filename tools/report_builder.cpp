@@ -290,10 +290,10 @@ void add_stage_times(report::HtmlPage& page, const std::string& device,
                      const std::vector<std::pair<std::string, double>>& stage_seconds) {
   if (stage_seconds.empty()) return;
   std::vector<std::pair<std::string, double>> bars;
-  for (const auto& [name, sec] : stage_seconds) {
-    auto it = std::find_if(bars.begin(), bars.end(), [&](const auto& b) { return b.first == name; });
-    if (it == bars.end()) bars.push_back({name, sec});
-    else it->second += sec;
+  for (const auto& stage : stage_seconds) {
+    auto it = std::find_if(bars.begin(), bars.end(), [&](const auto& b) { return b.first == stage.first; });
+    if (it == bars.end()) bars.push_back(stage);
+    else it->second += stage.second;
   }
   std::sort(bars.begin(), bars.end());
   page.heading("Time by stage");

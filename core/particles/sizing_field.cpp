@@ -39,8 +39,7 @@ void average_over_patches(const std::vector<Eigen::Vector3d>& x, const std::vect
 
 SizingField::SizingField(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& normal,
                          std::vector<double> value, const KdTree* index)
-    : x_(x),
-      normal_(normal),
+    : normal_(normal),
       value_(std::move(value)),
       tree_(given_or_built(index, x, own_index_)) {}
 

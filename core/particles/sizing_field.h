@@ -57,7 +57,6 @@ class SizingField {
   double mean(const std::vector<double>& value, const Eigen::Vector3d& n, const uint32_t* idx, const double* d2,
               size_t count) const;
 
-  const std::vector<Eigen::Vector3d>& x_;
   const std::vector<Eigen::Vector3d>& normal_;
   std::vector<double> value_;
   std::unique_ptr<PointIndex> own_index_;

@@ -48,9 +48,16 @@ std::vector<Contour> marching_squares(const float* g, int64_t nx, int64_t ny) {
       const int code = c[0] | c[1] << 1 | c[2] << 2 | c[3] << 3;
       if (code == 0 || code == 15) continue;
       const int64_t edge[4] = {i + nx * j, n + (i + 1) + nx * j, i + nx * (j + 1), n + i + nx * j};
+      // A segment's end is numbered before its start (vertex() numbers a vertex when first
+      // asked): the order, and so every contour's first point, is fixed in the code, not
+      // left to the compiler's order of evaluating arguments.
+      auto add_segment = [&](int64_t from_edge, int64_t to_edge) {
+        const int32_t to = vertex(to_edge);
+        segments.emplace_back(vertex(from_edge), to);
+      };
       if (code == 5 || code == 10) {  // saddle: cut off each inside corner
         for (int k = 0; k < 4; ++k)
-          if (c[k]) segments.emplace_back(vertex(edge[k]), vertex(edge[(k + 3) % 4]));
+          if (c[k]) add_segment(edge[k], edge[(k + 3) % 4]);
         continue;
       }
       int out_edge = -1, in_edge = -1;  // inside -> outside, outside -> inside (counter-clockwise)
@@ -58,7 +65,7 @@ std::vector<Contour> marching_squares(const float* g, int64_t nx, int64_t ny) {
         if (c[k] && !c[(k + 1) % 4]) out_edge = k;
         if (!c[k] && c[(k + 1) % 4]) in_edge = k;
       }
-      segments.emplace_back(vertex(edge[out_edge]), vertex(edge[in_edge]));
+      add_segment(edge[out_edge], edge[in_edge]);
     }
   std::vector<int32_t> next(pos.size(), -1);
   for (const auto& [a, b] : segments) {

@@ -37,7 +37,8 @@ Jittered jittered_sphere() {
   const int n = 1203;
   for (int k = 0; k < n; ++k) {
     const Eigen::Vector3d d = test::fibonacci_direction(k, n);
-    Eigen::Vector3d p = 15 * Eigen::Vector3d(d.x() + jitter(rng), d.y() + jitter(rng), d.z());
+    const double jy = jitter(rng), jx = jitter(rng);  // y, then x
+    Eigen::Vector3d p = 15 * Eigen::Vector3d(d.x() + jx, d.y() + jy, d.z());
     particles::newton_project(j.s, p, 8, 5.0);
     points.push_back(p);
   }

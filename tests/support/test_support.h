@@ -21,6 +21,14 @@
 
 namespace mpumesh::test {
 
+// Three draws of `d` as a vector, drawn z, then y, then x: the order is fixed here, since a
+// constructor's arguments are evaluated in the order each compiler chooses.
+template <class Dist, class Rng>
+Eigen::Vector3d random_vector(Dist& d, Rng& rng) {
+  const double z = d(rng), y = d(rng), x = d(rng);
+  return {x, y, z};
+}
+
 bool env_flag(const char* name);
 
 // A Vulkan backend with validation layers on, or null with the reason in `why`.

@@ -30,7 +30,7 @@ TEST(Circumcentre, SameBitsAsCgalsRobustConstruction) {
   };
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-50, 50);
-  auto point = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  auto point = [&] { return test::random_vector(u, rng); };
   int checked = 0;
   for (int i = 0; i < 20000; ++i) {
     const Eigen::Vector3d a = point(), b = point(), c = point(), d = point();

@@ -61,7 +61,7 @@ const Case& ellipsoid() {
     const int n = 2500;
     for (int k = 0; k < n; ++k) {  // a Fibonacci spiral on the sphere, jittered, onto the ellipsoid
       const Eigen::Vector3d d = test::fibonacci_direction(k, n);
-      Eigen::Vector3d u(d.x() + jitter(rng), d.y() + jitter(rng), d.z() + jitter(rng));
+      Eigen::Vector3d u = d + test::random_vector(jitter, rng);
       u.normalize();
       Eigen::Vector3d p(r.shape.a * u.x(), r.shape.b * u.y(), r.shape.c * u.z());
       particles::newton_project(r.surface, p, 8, 5.0);

@@ -171,7 +171,7 @@ TEST(Quality, MinAngleIsTheSmallestOfAllThreeBitForBit) {
   };
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-10, 10);
-  auto point = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  auto point = [&] { return test::random_vector(u, rng); };
   int checked = 0;
   for (int i = 0; i < 20000; ++i) {
     const Eigen::Vector3d a = point(), b = point();
@@ -197,7 +197,7 @@ TEST(Quality, MinAngleIsTheSmallestOfAllThreeBitForBit) {
 TEST(Quality, MinAngleBelowAgreesWithTheAngle) {
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-10, 10);
-  auto point = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
+  auto point = [&] { return test::random_vector(u, rng); };
   int near_bound = 0;
   for (int i = 0; i < 20000; ++i) {
     const double deg = i % 3 == 0 ? 20.0 : i % 3 == 1 ? 25.0 : 30.0;

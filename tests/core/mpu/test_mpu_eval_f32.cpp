@@ -75,7 +75,7 @@ std::vector<Eigen::Vector3d> query_points(const Phantom& p, uint32_t seed, bool 
     const size_t k = rng() % c.size();
     q.push_back(i % 3 ? c.positions[k] + off(rng) * c.normals[k]
                       : Eigen::Vector3d(p.surface.box_min +
-                                        p.surface.box_size * Eigen::Vector3d(any(rng), any(rng), any(rng))));
+                                        p.surface.box_size * test::random_vector(any, rng)));
   }
   return q;
 }

@@ -61,7 +61,7 @@ std::vector<Eigen::Vector3d> near_points(const mpu::MpuSurface& s, int count) {
   std::uniform_real_distribution<double> d(-1.5, 1.5);
   std::vector<Eigen::Vector3d> out;
   while (int(out.size()) < count) {
-    const Eigen::Vector3d x(kR0 + d(rng), d(rng), d(rng));
+    const Eigen::Vector3d x = Eigen::Vector3d(kR0, 0, 0) + test::random_vector(d, rng);
     if (mpu::evaluate_f(s, x) != s.box_size) out.push_back(x);
   }
   return out;

@@ -43,7 +43,7 @@ std::vector<Eigen::Vector3d> query_points(const PointCloud& c, const mpu::MpuSur
   for (int i = 0; i < 1003; ++i) {
     const size_t k = rng() % c.size();
     q.push_back(i % 3 ? c.positions[k] + far(rng) * c.normals[k]
-                      : Eigen::Vector3d(s.box_min + s.box_size * Eigen::Vector3d(any(rng), any(rng), any(rng))));
+                      : Eigen::Vector3d(s.box_min + s.box_size * test::random_vector(any, rng)));
   }
   return q;
 }

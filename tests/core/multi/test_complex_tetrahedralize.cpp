@@ -104,7 +104,7 @@ void expect_label_volumes_and_quality(const TriangleMesh& c, const TetMesh& m, c
       const double boundary = enclosed_volume(multi::label_boundary(c, label));
       EXPECT_NEAR(q.volume_mm3 / boundary, 1, kVolume) << "label " << label;
     }
-    const auto f = std::ranges::find_if(st.labels, [&](const LabelTetFigures& x) { return x.label == label; });
+    const auto f = std::ranges::find_if(st.labels, [l = label](const LabelTetFigures& x) { return x.label == l; });
     ASSERT_NE(f, st.labels.end());
     EXPECT_EQ(f->quality.tets, q.tets);
     EXPECT_GE(f->min_dihedral_at_interfaces, kMinDihedral);

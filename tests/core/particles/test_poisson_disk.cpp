@@ -11,6 +11,7 @@
 #include <random>
 
 #include "particles/poisson_disk.h"
+#include "test_support.h"
 
 namespace mpumesh {
 namespace {
@@ -27,7 +28,7 @@ Cloud sphere_cloud(size_t n, double size, double r0, double r1, uint32_t seed) {
   std::uniform_real_distribution<double> u(r0, r1);
   Cloud c;
   for (size_t i = 0; i < n; ++i) {
-    Eigen::Vector3d p(g(rng), g(rng), g(rng));
+    Eigen::Vector3d p = test::random_vector(g, rng);
     c.x.push_back(size * p.normalized());
     c.r.push_back(u(rng));
   }

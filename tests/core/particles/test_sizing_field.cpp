@@ -7,6 +7,7 @@
 #include <random>
 
 #include "particles/sizing_field.h"
+#include "test_support.h"
 
 namespace mpumesh::particles {
 namespace {
@@ -88,7 +89,9 @@ TEST(SizingField, TwoFieldsFromOneSearchGiveTheirOwnValues) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-1, 3);
   for (int k = 0; k < 500; ++k) {
-    const Eigen::Vector3d p(u(rng), u(rng), 0.25 * u(rng)), nq = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+    Eigen::Vector3d p = test::random_vector(u, rng);
+    p.z() *= 0.25;
+    const Eigen::Vector3d nq = test::random_vector(u, rng).normalized();
     const auto [va, vb] = fa.at_with(fb, p, nq);
     EXPECT_EQ(va, fa.at(p, nq)) << k;
     EXPECT_EQ(vb, fb.at(p, nq)) << k;

@@ -26,7 +26,7 @@ TEST(Phantom, ClosestPointsLieOnTheSurfaceWithTheirNormals) {
     const Eigen::Vector3d half = s.rotation.cwiseAbs() * s.half_extent();
     int checked = 0;
     for (int i = 0; i < 2000; ++i) {
-      const Eigen::Vector3d p = s.centre + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(half * 1.2);
+      const Eigen::Vector3d p = s.centre + test::random_vector(u, rng).cwiseProduct(half * 1.2);
       Eigen::Vector3d n;
       const double d = s.distance(p, &n);
       ASSERT_NEAR(n.norm(), 1.0, 1e-9);

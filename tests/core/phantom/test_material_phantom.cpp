@@ -9,6 +9,7 @@
 #include <set>
 
 #include "phantom/material_phantom.h"
+#include "test_support.h"
 
 namespace mpumesh::phantom {
 namespace {
@@ -23,7 +24,7 @@ std::vector<Eigen::Vector3d> random_points(const MaterialPhantom& m, int n, uint
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-m.extent() - 1, m.extent() + 1);
   std::vector<Eigen::Vector3d> out;
-  for (int i = 0; i < n; ++i) out.push_back(m.centre + Eigen::Vector3d(u(rng), u(rng), u(rng)));
+  for (int i = 0; i < n; ++i) out.push_back(m.centre + test::random_vector(u, rng));
   return out;
 }
 
@@ -46,7 +47,7 @@ TEST_P(MaterialPhantoms, EveryChangeOfLabelLiesOnTheirInterface) {
   std::mt19937 rng(7);
   std::normal_distribution<double> g;
   for (const Eigen::Vector3d& p : random_points(m, 200000, 3)) {
-    const Eigen::Vector3d q = p + step * Eigen::Vector3d(g(rng), g(rng), g(rng)).normalized();
+    const Eigen::Vector3d q = p + step * test::random_vector(g, rng).normalized();
     const int a = m.label_at(p), b = m.label_at(q);
     if (a == b) continue;
     ++changes;
