@@ -14,7 +14,7 @@
 #include "geometry/vertex_faces.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/edge_faces.h"
-#include "multi/thin_wedges.h"
+#include "multi/region_wedges.h"
 
 namespace mpumesh::multi {
 namespace {
@@ -80,22 +80,7 @@ struct LiveFans {
 double least_wedge(const Complex& c, const LiveFans& fans, uint32_t p, uint32_t q) {
   const std::vector<uint32_t> faces = fans.at_edge(c, p, q);
   double least = 2 * kPi;
-  for (size_t i = 0; i < faces.size(); ++i)
-    for (const int r : c.pair[faces[i]]) {
-      if (r == 0) continue;
-      std::vector<uint32_t> two;
-      for (uint32_t f : faces)
-        if (c.pair[f][0] == r || c.pair[f][1] == r) two.push_back(f);
-      if (two.size() != 2 || two[0] != faces[i]) continue;
-      auto third = [&](uint32_t f) {
-        for (uint32_t v : c.T[f])
-          if (v != p && v != q) return v;
-        return p;
-      };
-      const Eigen::Vector3d n = normal_of(c.V, c.T[two[0]]);
-      const Eigen::Vector3d out = c.pair[two[0]][0] == r ? n : Eigen::Vector3d(-n);
-      least = std::min(least, wedge_angle(c.V[p], c.V[q], c.V[third(two[0])], c.V[third(two[1])], out));
-    }
+  for (const RegionWedge& w : region_wedges(p, q, faces, c.pair)) least = std::min(least, wedge_of(c.V, c.T, w));
   return least;
 }
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "multi/labelled_delaunay.h"
+#include "multi/region_wedges.h"
 
 namespace mpumesh::multi {
 
@@ -25,11 +26,7 @@ struct WedgeTrimStats {
   int rounds = 0;     // rounds that changed cells
 };
 
-// The least wedge a region keeps, and the rounds the trimming makes at most. The least is
-// above the 10° a tetrahedron is to keep: where two wedges near 10° meet at a vertex on a
-// flat ridge of the region, the corner between them holds one tetrahedron whose angles
-// the surface fixes, under 10° whatever lies inside.
-inline constexpr double kMinWedgeDeg = 15;
+// The rounds the trimming makes at most (the least wedge: multi/region_wedges.h).
 inline constexpr int kWedgeTrimRounds = 30;
 
 // `pts` holds the vertices' points by their info.

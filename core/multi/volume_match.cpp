@@ -6,11 +6,10 @@
 #include <span>
 #include <vector>
 
-#include "geometry/angle.h"
 #include "mesh/cgal_geometry.h"
 #include "mesh/edge_faces.h"
 #include "mesh/quality.h"
-#include "multi/thin_wedges.h"
+#include "multi/region_wedges.h"
 
 namespace mpumesh::multi {
 namespace {
@@ -31,24 +30,10 @@ constexpr double kEdgeFraction = 0.05;
 // A triangle's smallest angle under this (degrees) may not fall.
 constexpr double kAngleKept = 30;
 
-// A region's wedge at a junction edge p-q: its two triangles there (multi/thin_wedges.h),
-// f1's normal pointing out of the region when `out_sign` is 1, into it when -1.
-struct Wedge {
-  uint32_t p = 0, q = 0, f1 = 0, f2 = 0;
-  double out_sign = 1, before = 0;
+// A region's wedge at a junction edge (multi/region_wedges.h) and its angle before any move.
+struct Wedge : RegionWedge {
+  double before = 0;
 };
-
-uint32_t third_vertex(const std::array<uint32_t, 3>& t, uint32_t p, uint32_t q) {
-  for (const uint32_t v : t)
-    if (v != p && v != q) return v;
-  return p;
-}
-
-double wedge_of(const TriangleMesh& c, const std::vector<Eigen::Vector3d>& V, const Wedge& w) {
-  const auto& t = c.triangles[w.f1];
-  const Eigen::Vector3d n = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]) * w.out_sign;
-  return wedge_angle(V[w.p], V[w.q], V[third_vertex(t, w.p, w.q)], V[third_vertex(c.triangles[w.f2], w.p, w.q)], n);
-}
 
 // Every label's wedge at the edges where three or more regions meet, with its angle now.
 std::vector<Wedge> junction_wedges(const TriangleMesh& c) {
@@ -58,18 +43,8 @@ std::vector<Wedge> junction_wedges(const TriangleMesh& c) {
     const std::span<const uint32_t> faces = ef.faces(e);
     if (faces.size() < 3) continue;
     const uint64_t key = ef.keys()[e];
-    const uint32_t p = uint32_t(key >> 32), q = uint32_t(key & 0xffffffffu);
-    for (const uint32_t f : faces)
-      for (const int32_t label : c.face_labels[f]) {
-        if (label == 0) continue;
-        std::vector<uint32_t> two;
-        for (const uint32_t g : faces)
-          if (c.face_labels[g][0] == label || c.face_labels[g][1] == label) two.push_back(g);
-        if (two.size() != 2 || two[0] != f) continue;
-        Wedge w{p, q, two[0], two[1], c.face_labels[two[0]][0] == label ? 1.0 : -1.0, 0};
-        w.before = wedge_of(c, c.vertices, w);
-        out.push_back(w);
-      }
+    for (const RegionWedge& w : region_wedges(uint32_t(key >> 32), uint32_t(key & 0xffffffffu), faces, c.face_labels))
+      out.push_back({w, wedge_of(c.vertices, c.triangles, w)});
   }
   return out;
 }
@@ -206,7 +181,7 @@ void move_round(TriangleMesh& complex, const std::vector<Eigen::Vector3d>& start
 
 // The moves in `moved` undone at the vertices of every triangle whose smallest angle they
 // take lower, under kAngleKept, and of every wedge's two triangles that they take lower,
-// under kMinWedgeDeg (multi/thin_wedges.h: a tetrahedron there is no better), until
+// under kMinWedgeDeg (multi/region_wedges.h: a tetrahedron there is no better), until
 // there is none; those vertices stay frozen.
 void keep_shape(const TriangleMesh& complex, const std::vector<Wedge>& wedges, std::vector<Eigen::Vector3d>& moved,
                 std::vector<char>& frozen) {
@@ -223,7 +198,7 @@ void keep_shape(const TriangleMesh& complex, const std::vector<Wedge>& wedges, s
       undone = true;
     }
     for (const Wedge& w : wedges) {
-      if (wedge_of(complex, moved, w) >= std::min(w.before, kMinWedgeDeg * M_PI / 180)) continue;
+      if (wedge_of(moved, complex.triangles, w) >= std::min(w.before, kMinWedgeDeg * M_PI / 180)) continue;
       for (const uint32_t f : {w.f1, w.f2})
         for (const uint32_t v : complex.triangles[f]) undo(v);
       undone = true;
