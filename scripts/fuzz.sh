@@ -23,8 +23,9 @@ if [ -d "$pydicom" ]; then
   done
 fi
 export MPUMESH_READER_TIMEOUT=${MPUMESH_READER_TIMEOUT:-5}
-for t in mpu mesh points plist inv3 dicom volume tet; do
-  work="$build/corpus/$t"
+# One target: its regression inputs, then SECONDS of fuzzing; its report goes to its log.
+fuzz_one() {
+  local t=$1 work="$build/corpus/$1"
   mkdir -p "$work"
   if [ -d "tests/fuzz/regressions/$t" ]; then
     "$build/tests/fuzz/fuzz_$t" -runs=0 tests/fuzz/regressions/$t/* 2>&1 | tail -1
@@ -33,8 +34,7 @@ for t in mpu mesh points plist inv3 dicom volume tet; do
   # The volume target's third-party readers run in a child process, where a large
   # allocation is theirs to make or to fail (their failure comes back as an error): the
   # malloc limit is the parent's memory, and a refused allocation returns null.
-  extra=()
-  asan=${ASAN_OPTIONS:-}
+  local extra=() asan=${ASAN_OPTIONS:-}
   if [ "$t" = volume ]; then
     extra=(-malloc_limit_mb=65536)
     asan="allocator_may_return_null=1${asan:+:$asan}"
@@ -42,9 +42,28 @@ for t in mpu mesh points plist inv3 dicom volume tet; do
   ASAN_OPTIONS=$asan "$build/tests/fuzz/fuzz_$t" "$work" "tests/fuzz/corpus/$t" -max_total_time="$seconds" -rss_limit_mb=2048 \
     -timeout=10 -max_len=65536 -artifact_prefix="$build/artifacts/${t}-" -print_final_stats=1 "${extra[@]}" 2>&1 |
     grep -E "^(stat::number_of_executed_units|stat::peak_rss_mb|Done|==[0-9]+==ERROR|SUMMARY)|runtime error" || true
+}
+# The targets run as many at a time as there are cores (each fuzzes on one); a target
+# whose replay or run fails, or that leaves an input behind, is a finding.
+targets=(mpu mesh points plist inv3 dicom volume tet)
+declare -A pid
+for t in "${targets[@]}"; do
+  fuzz_one "$t" >"$build/fuzz_$t.log" 2>&1 &
+  pid[$t]=$!
+  while [ "$(jobs -rp | wc -l)" -ge "$(nproc)" ]; do wait -n || true; done
+done
+found=0
+for t in "${targets[@]}"; do
+  status=0
+  wait "${pid[$t]}" || status=$?
+  cat "$build/fuzz_$t.log"
   if ls "$build/artifacts/${t}-"* >/dev/null 2>&1; then
     echo "fuzz_$t: FOUND a failing input: $(ls "$build/artifacts/${t}-"*)" >&2
-    exit 1
+    found=1
+  elif [ "$status" -ne 0 ]; then
+    echo "fuzz_$t: FAILED (exit $status)" >&2
+    found=1
   fi
 done
+[ "$found" -eq 0 ] || exit 1
 echo "fuzz: no findings"
