@@ -23,7 +23,7 @@ if [ -d "$pydicom" ]; then
   done
 fi
 export MPUMESH_READER_TIMEOUT=${MPUMESH_READER_TIMEOUT:-5}
-# One target: its regression inputs, then SECONDS of fuzzing; its report goes to its log.
+# One target: its regression inputs replayed, then FUZZ_SECONDS of fuzzing.
 fuzz_one() {
   local t=$1 work="$build/corpus/$1"
   mkdir -p "$work"
