@@ -132,7 +132,6 @@ void keep_shape(const TriangleMesh& complex, const std::vector<Wedge>& wedges, s
 // One round: each vertex not frozen moved by its least-squares displacement (above), at
 // most its faces' largest |s|, and in all rounds together (from `start`) at most
 // kEdgeFraction of its shortest edge.
-
 void move_round(TriangleMesh& complex, const std::vector<Eigen::Vector3d>& start, const Regions& r,
                 const std::vector<Wedge>& wedges, const Eigen::VectorXd& c, double max_shift, std::vector<char>& frozen,
                 VolumeMatchStats& stats) {
