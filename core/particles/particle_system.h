@@ -87,6 +87,13 @@ struct SampleSource {
   // The candidates' median distance to their 12th nearest (median_spacing with the
   // candidate index), when the caller has measured it; 0: measured here.
   double candidate_gap = 0;
+  // A label map's candidates (its contour points) lie on the slices' planes: on a wall
+  // steep to the slices, seeds drawn from them stand in rows a slice apart, a lattice the
+  // particles' repulsion holds. Each seed starts from its candidate moved along the slice
+  // axis (unit) by a random fraction of the slice spacing (mm), within half of it either
+  // way, before it is pulled onto f = 0. 0: the candidates as they are.
+  Eigen::Vector3d slice_axis{0, 0, 1};
+  double slice_spacing = 0;
 };
 
 // The spacing s whose six neighbours give a particle of radius σ the desired energy

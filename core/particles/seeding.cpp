@@ -259,8 +259,12 @@ void Sampler::draw_seeds() {
 // land close together there.
 void Sampler::place_seeds() {
   st.resize(seeds.size());
+  std::vector<Eigen::Vector3d> start(seeds.size());
   for (size_t k = 0; k < seeds.size(); ++k) {
-    st.x[k] = fine[seeds[k]];
+    start[k] = fine[seeds[k]];
+    if (source.slice_spacing > 0)
+      start[k] += (hash01(uint32_t(k), 0, opt.seed, 4) - 0.5) * source.slice_spacing * source.slice_axis;
+    st.x[k] = start[k];
     st.target[k] = tg.spacing[fine_pool[seeds[k]]] / kSpacingPerSigma;
     st.sigma[k] = st.target[k];
   }
@@ -272,7 +276,7 @@ void Sampler::place_seeds() {
   std::vector<Eigen::Vector3d> at;
   std::vector<double> r;
   for (size_t k = 0; k < st.size(); ++k) {
-    if (!reached_surface(st, k, fine[seeds[k]])) continue;
+    if (!reached_surface(st, k, start[k])) continue;
     reached.push_back(k);
     at.push_back(st.x[k]);
     r.push_back(radius[seeds[k]]);

