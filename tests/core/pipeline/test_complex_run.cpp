@@ -44,9 +44,9 @@ Meshed mesh_phantom(const std::string& name) {
 }
 
 // The triangles' shape, the smallest angle at least 25 degrees away
-// from the junction curves and 20 at them, the mean radius ratio at least 0.95 (27.5-41.4
-// degrees, 36.0-41.4 away from the junctions, and 0.959-0.970 measured on the phantoms
-// with the complex's optimisation; 24.3 degrees on the joint and 0.948-0.961 without).
+// from the junction curves and 20 at them, the mean radius ratio at least 0.95 (25.2-39.7
+// degrees, 37.4-39.7 away from the junctions, and 0.959-0.970 measured on the phantoms
+// with the complex's optimisation; 24.4 degrees on the split ball before it).
 // The optimisation moved vertices, lowered no smallest angle and was kept.
 void expect_well_shaped(const pipeline::ComplexResult& r) {
   const multi::ComplexFigures& f = r.figures;
