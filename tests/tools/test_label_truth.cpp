@@ -168,9 +168,10 @@ TEST(LabelTruth, SampleProjectMasksHaveNoTerraces) {
 // The sample project's bone mask alone (its other label taken as background): the shape
 // the head CT gives at the bone threshold (226 HU), without slice terraces (its walls
 // steep to the slices, the head holder's plates, are where seeds drawn from the contours
-// would stand in rows), meshed no denser than the grey-volume rule meshes the CT. (Next to another label a label's surface lies a quarter voxel
-// inside it, segment/label_map.h, so in the two-label map a plate of bone one voxel thick
-// between soft tissue on both sides is half a voxel thick, and its spacing follows.)
+// would stand in rows), meshed no denser than the grey-volume rule meshes the CT. (Next
+// to another label a label's surface lies a quarter voxel inside it, segment/label_map.h,
+// so in the two-label map a plate of bone one voxel thick between soft tissue on both
+// sides is half a voxel thick, and its spacing follows.)
 TEST(LabelTruth, SampleProjectBoneMaskHasNoTerracesAndIsNoDenserThanTheScan) {
   MPUMESH_SAMPLE_CT_OR_SKIP(ct);
   const std::string dir = test::temp_dir("label_bone");
