@@ -60,7 +60,7 @@ itk::ImageIOBase::Pointer io_for(const std::string& path) {
   return nullptr;
 }
 
-// The image's geometry and voxels (float, or int16 into voxels16).
+// The image's geometry and voxels (float, or int16 left in the image's buffer: voxels16).
 template <class Image>
 PlainVolume from_itk(const Image* img, const std::string&) {
   PlainVolume v;
@@ -72,9 +72,10 @@ PlainVolume from_itk(const Image* img, const std::string&) {
     for (int b = 0; b < 3; ++b) v.direction[size_t(3 * a + b)] = img->GetDirection()(a, b);
   }
   const auto* buf = img->GetBufferPointer();
-  if constexpr (std::is_same_v<typename Image::PixelType, int16_t>)
-    v.voxels16.assign(buf, buf + size[0] * size[1] * size[2]);
-  else
+  if constexpr (std::is_same_v<typename Image::PixelType, int16_t>) {
+    v.voxels16 = {buf, size_t(size[0] * size[1] * size[2])};
+    v.voxels16_owner = std::make_shared<typename Image::ConstPointer>(img);
+  } else
     v.voxels.assign(buf, buf + size[0] * size[1] * size[2]);
   return v;
 }

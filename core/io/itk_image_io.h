@@ -5,6 +5,8 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -17,8 +19,10 @@ struct PlainVolume {
   std::vector<float> voxels;
   // Instead of `voxels`, where the file's own voxels are 16-bit integers and its format
   // applies no rescale (MetaImage, NRRD): read as they are stored, half the memory of
-  // floats. Empty otherwise.
-  std::vector<int16_t> voxels16;
+  // floats, and left in the reader's own buffer, which `voxels16_owner` keeps (a copy of
+  // a full-resolution scan's 170 MB costs a fault per page). Empty otherwise.
+  std::span<const int16_t> voxels16;
+  std::shared_ptr<const void> voxels16_owner;
   std::string modality;
   std::vector<std::string> notes;  // what the libraries said while reading, harmless
 };
