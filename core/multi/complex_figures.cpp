@@ -8,8 +8,10 @@
 #include "common/disjoint_sets.h"
 #include "geometry/angle.h"
 #include "mesh/cgal_geometry.h"
+#include "mesh/edge_faces.h"
 #include "mesh/quality.h"
 #include "mesh/topology.h"
+#include "multi/region_wedges.h"
 
 namespace mpumesh::multi {
 std::vector<int64_t> complex_labels(const TriangleMesh& c) {
@@ -64,27 +66,22 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// The region's wedges at the junction edges (`junction`: their keys): RegionFigures.
-void measure_wedges(const TriangleMesh& boundary, const std::unordered_set<uint64_t>& junction, RegionFigures& f) {
-  struct Side {
-    uint32_t t, third;
-  };
-  std::unordered_map<uint64_t, std::vector<Side>> at;
-  for (uint32_t t = 0; t < boundary.triangles.size(); ++t)
-    for (size_t k = 0; k < 3; ++k) {
-      const auto& tri = boundary.triangles[t];
-      const uint64_t key = edge_key(tri[k], tri[(k + 1) % 3]);
-      if (junction.count(key)) at[key].push_back({t, tri[(k + 2) % 3]});
+// Every region's wedges at the junction edges (`junction`: their keys; multi/region_wedges.h)
+// into its RegionFigures.
+void measure_wedges(const TriangleMesh& c, const std::unordered_set<uint64_t>& junction,
+                    std::vector<RegionFigures>& regions) {
+  std::unordered_map<int64_t, RegionFigures*> of_label;
+  for (RegionFigures& f : regions) of_label[f.label] = &f;
+  const EdgeFaces ef(c.triangles);
+  for (size_t e = 0; e < ef.size(); ++e) {
+    const uint64_t key = ef.keys()[e];
+    if (!junction.count(key)) continue;
+    for (const RegionWedge& w : region_wedges(uint32_t(key >> 32), uint32_t(key), ef.faces(e), c.face_labels)) {
+      RegionFigures& f = *of_label.at(w.region);
+      const double deg = wedge_of(c.vertices, c.triangles, w) * 180 / kPi;
+      f.min_wedge_deg = std::min(f.min_wedge_deg, deg);
+      f.wedges_under_10 += deg < 10;
     }
-  const auto& V = boundary.vertices;
-  for (const auto& [key, sides] : at) {
-    if (sides.size() != 2) continue;
-    const auto& t = boundary.triangles[sides[0].t];
-    const Eigen::Vector3d n1 = (V[t[1]] - V[t[0]]).cross(V[t[2]] - V[t[0]]).normalized();
-    const double w =
-        wedge_angle(V[key >> 32], V[uint32_t(key)], V[sides[0].third], V[sides[1].third], n1) * 180 / kPi;
-    f.min_wedge_deg = std::min(f.min_wedge_deg, w);
-    f.wedges_under_10 += w < 10;
   }
 }
 
@@ -107,9 +104,9 @@ ComplexFigures measure_complex(const TriangleMesh& c, bool crossings) {
     f.defects = defects_of(t);
     f.components = t.components;
     f.pinched_vertices = t.nonmanifold_vertices;
-    measure_wedges(b, junction, f);
     out.regions.push_back(f);
   }
+  measure_wedges(c, junction, out.regions);
   std::vector<char> at_junction(V.size(), 0);
   DisjointSets sets(V.size());
   for (const auto& e : jedges) {

@@ -23,6 +23,7 @@ inline constexpr double kMinWedgeDeg = 15;
 struct RegionWedge {
   uint32_t p = 0, q = 0, f1 = 0, f2 = 0;
   double out_sign = 1;
+  int64_t region = 0;
 };
 
 // The wedges at edge p-q of the regions other than the background (0) that have exactly
@@ -39,7 +40,7 @@ std::vector<RegionWedge> region_wedges(uint32_t p, uint32_t q, std::span<const u
       for (const uint32_t g : faces)
         if (labels[g][0] == region || labels[g][1] == region) two.push_back(g);
       if (two.size() != 2 || two[0] != f) continue;
-      out.push_back({p, q, two[0], two[1], labels[two[0]][0] == region ? 1.0 : -1.0});
+      out.push_back({p, q, two[0], two[1], labels[two[0]][0] == region ? 1.0 : -1.0, int64_t(region)});
     }
   return out;
 }
