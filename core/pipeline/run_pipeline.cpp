@@ -139,14 +139,15 @@ PointCloud points_from_volume(Run& run, const Volume& scan) {
   run.r.derived.sample_source.voxel_size = vol.in_plane_spacing();  // the default count follows it
   // No eps given: the tolerance follows the scan (set_tolerance).
   if (!(run.opt.fit.eps > 0)) run.tolerance_pixel = vol.in_plane_spacing();
+  const Eigen::Vector3d slice_axis = vol.direction.col(2).normalized();
   if (run.opt.label > 0) {
-    run.label_slices = {vol.origin, vol.direction.col(2).normalized(), vol.spacing.z()};
-    run.r.derived.sample_source.slice_axis = vol.direction.col(2).normalized();
+    run.label_slices = {vol.origin, slice_axis, vol.spacing.z()};
+    run.r.derived.sample_source.slice_axis = slice_axis;
     run.r.derived.sample_source.slice_spacing = vol.spacing.z();
     run.r.derived.fit.min_radius_floor = mpu::kLabelMinRadiusSlices * vol.spacing.z();
   }
   if (run.tolerance_pixel > 0 && run.opt.label > 0) {
-    run.label_grid = mpu::LabelGrid{vol.direction.col(2).normalized(), vol.in_plane_spacing(), vol.spacing.z()};
+    run.label_grid = mpu::LabelGrid{slice_axis, vol.in_plane_spacing(), vol.spacing.z()};
     // The complex's label runs give it their fits and vertices only (pipeline/complex_run.h):
     // their meshes' curvature is never written.
     if (!run.opt.label_shares_faces) run.r.derived.curvature_scale_mm = run.r.derived.fit.min_radius_floor;
