@@ -30,6 +30,7 @@ print("points %d, leaves %d, particles %d, triangles %d" % (j["points"], j["fit"
       j["particles"]["particles"], j["triangles"]))
 print("wall %.1f s (target 45 s); peak memory %.2f GiB (target 2), estimated %.2f GiB, available %.1f GiB"
       % (wall, m["peak_rss_gib"], m["estimate_gib"], m["available_gib"]))
+print("malloc huge pages:", "yes" if m["malloc_huge_pages"] else "no")
 q = j["quality"]
 print("closed %s, oriented %s; smallest angle %.2f deg, %.2f%% of triangles under 30 deg, mean radius ratio %.3f"
       % (q["closed"], q["oriented"], q["min_angle_deg"]["min"], q["pct_min_angle_below"]["30"],

@@ -13,6 +13,7 @@
 
 #include "cli_util.h"
 #include "common/error.h"
+#include "common/memory.h"
 #include "complex_report.h"
 #include "component_cli.h"
 #include "cpu/cpu_backend.h"
@@ -349,6 +350,7 @@ void add_run_command(CLI::App& app, CommonOptions& common, std::function<void()>
   cmd->callback([&common, &action, o] {
     action = [&common, o] {
       check_run_outputs(*o);
+      if (common.argv) prefer_huge_pages_if_faster(common.argv, input_bytes(o->input));
       const pipeline::RunOptions options = run_options(*o, common);
       std::optional<tbb::global_control> threads;
       if (o->threads > 0) threads.emplace(tbb::global_control::max_allowed_parallelism, size_t(o->threads));

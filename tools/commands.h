@@ -12,6 +12,7 @@ struct CommonOptions {
   bool quiet = false;
   bool json = false;
   bool progress = false;  // --progress: off a terminal, a line per tenth of a long stage
+  char** argv = nullptr;  // main's, for a long job to start itself again (common/memory.h)
 };
 
 // Each returns the callback that runs the command once CLI11 has parsed the arguments.

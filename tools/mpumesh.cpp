@@ -31,6 +31,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("mpumesh ") + MPUMESH_VERSION);
   mpumesh::tools::CommonOptions common;
+  common.argv = argv;
   std::function<void()> action;
   mpumesh::tools::add_run_command(app, common, action);
   mpumesh::tools::add_render_command(app, common, action);

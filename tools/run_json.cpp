@@ -191,7 +191,8 @@ nlohmann::json run_json(const pipeline::RunResult& r, const RunReportContext& ct
 nlohmann::json memory_json(const pipeline::RunResult& r) {
   return {{"estimate_gib", double(r.derived.memory_estimate) / double(1ull << 30)},
           {"available_gib", double(available_memory_bytes()) / double(1ull << 30)},
-          {"peak_rss_gib", double(peak_rss_bytes()) / double(1ull << 30)}};
+          {"peak_rss_gib", double(peak_rss_bytes()) / double(1ull << 30)},
+          {"malloc_huge_pages", malloc_huge_pages()}};
 }
 
 nlohmann::json stage_seconds_json(const std::vector<std::pair<std::string, double>>& pipeline_stages,

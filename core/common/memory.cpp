@@ -1,14 +1,19 @@
 #include "common/memory.h"
 
 #include <malloc.h>
+#include <sys/mman.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include "common/error.h"
@@ -35,6 +40,103 @@ void tune_memory() {
 #if defined(__GLIBC__) && defined(__linux__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // glibc's largest
   mallopt(M_TRIM_THRESHOLD, INT32_MAX);
+#endif
+}
+
+namespace {
+
+constexpr uint64_t kHugePage = 2ull << 20;
+// The probe's fresh memory, each way; and how much faster huge pages must fault in.
+constexpr uint64_t kHugePageProbeBytes = 16ull << 20;
+constexpr double kHugePageMinSpeedup = 1.2;
+
+// One anonymous mapping aligned to a huge page, asked for huge pages or for none.
+struct ProbeRegion {
+  void* map = MAP_FAILED;
+  char* at = nullptr;
+  uint64_t bytes = 0;
+  ProbeRegion(uint64_t n, bool huge) : bytes(n + kHugePage) {
+    map = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (map == MAP_FAILED) return;
+    at = reinterpret_cast<char*>((reinterpret_cast<uintptr_t>(map) + kHugePage - 1) & ~(kHugePage - 1));
+    if (madvise(at, n, huge ? MADV_HUGEPAGE : MADV_NOHUGEPAGE) != 0) at = nullptr;
+  }
+  ~ProbeRegion() {
+    if (map != MAP_FAILED) munmap(map, bytes);
+  }
+  ProbeRegion(const ProbeRegion&) = delete;
+  ProbeRegion& operator=(const ProbeRegion&) = delete;
+};
+
+// Seconds to write one byte in every 4 KiB page of [p, p + n).
+double touch_seconds(char* p, uint64_t n) {
+  const auto t0 = std::chrono::steady_clock::now();
+  for (uint64_t i = 0; i < n; i += 4096) static_cast<volatile char*>(p)[i] = 1;
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+bool huge_pages_on_request() {
+  std::ifstream in("/sys/kernel/mm/transparent_hugepage/enabled");
+  std::string line;
+  std::getline(in, line);
+  return line.find("[madvise]") != std::string::npos;
+}
+
+}  // namespace
+
+double huge_page_fault_speedup(uint64_t bytes) {
+  bytes = std::max(kHugePage, bytes / kHugePage * kHugePage);
+  const ProbeRegion small(bytes, false), huge(bytes, true);
+  if (!small.at || !huge.at) return 0;
+  // Quarters in turn, so that a change in the machine's load falls on both.
+  const uint64_t quarter = std::max(kHugePage, bytes / 4 / kHugePage * kHugePage);
+  double t_small = 0, t_huge = 0;
+  for (uint64_t off = 0; off + quarter <= bytes; off += quarter) {
+    t_small += touch_seconds(small.at + off, quarter);
+    t_huge += touch_seconds(huge.at + off, quarter);
+  }
+  return t_huge > 0 ? t_small / t_huge : 0;
+}
+
+uint64_t input_bytes(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) {
+    const uint64_t n = fs::file_size(path, ec);
+    return ec ? 0 : n;
+  }
+  uint64_t total = 0;
+  if (fs::is_directory(path, ec))
+    for (const auto& e : fs::directory_iterator(path, ec))
+      if (e.is_regular_file(ec)) total += e.file_size(ec);
+  return total;
+}
+
+bool malloc_huge_pages() {
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  const char* at = tunables ? std::strstr(tunables, "glibc.malloc.hugetlb=") : nullptr;
+  return at && std::atoi(at + std::strlen("glibc.malloc.hugetlb=")) > 0;
+}
+
+void prefer_huge_pages_if_faster(char** argv, uint64_t job_bytes) {
+#if defined(__GLIBC__) && defined(__linux__)
+  const char* tunables = std::getenv("GLIBC_TUNABLES");
+  if (tunables && std::strstr(tunables, "glibc.malloc.hugetlb")) return;
+  const char* choice = std::getenv("MPUMESH_HUGE_PAGES");
+  const std::string_view forced = choice ? choice : "";
+  if (forced == "0") return;
+  if (forced != "1" && (job_bytes < kHugePageJobBytes || !huge_pages_on_request())) return;
+  const bool huge = forced == "1" || huge_page_fault_speedup(kHugePageProbeBytes) >= kHugePageMinSpeedup;
+  // Either way the choice goes into GLIBC_TUNABLES, so that the programs this one starts
+  // (a benchmark's runs of mpumesh) make the same one without a probe of their own.
+  const std::string before = tunables ? tunables : "";
+  const std::string with = before + (before.empty() ? "" : ":") + "glibc.malloc.hugetlb=" + (huge ? "1" : "0");
+  if (setenv("GLIBC_TUNABLES", with.c_str(), 1) != 0 || !huge) return;
+  std::fflush(nullptr);
+  execv("/proc/self/exe", argv);  // returns only on failure: the run goes on as it is
+  setenv("GLIBC_TUNABLES", (before + (before.empty() ? "" : ":") + "glibc.malloc.hugetlb=0").c_str(), 1);
+#else
+  (void)argv, (void)job_bytes;
 #endif
 }
 

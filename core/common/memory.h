@@ -32,12 +32,39 @@ uint64_t estimate_run_bytes(int64_t voxels, int64_t points, int64_t particles, b
 // (mpumesh, the whole-run benchmarks). A run allocates and frees its stages' large
 // buffers over and over, and each fresh page costs a fault and the kernel's zeroing. So,
 // with glibc, freed memory stays in the process for the next allocation (blocks up to
-// 32 MiB come from the heap, not fresh mappings, and the heap is not trimmed). Malloc
-// does not ask for transparent huge pages (glibc.malloc.hugetlb=1): they save faults, but
-// a virtual machine that hands freed memory back to its host (free page reporting)
-// zeroes a fresh 2 MiB page at a quarter of the speed of 4 KiB ones, and the run is
-// slower.
+// 32 MiB come from the heap, not fresh mappings, and the heap is not trimmed).
 void tune_memory();
+
+// Whether malloc should ask for transparent huge pages (glibc.malloc.hugetlb=1) depends on
+// the machine. They save 4 KiB faults: a virtual machine whose host backs each fresh page
+// on first touch faults 2 MiB pages in 1.7-3 times faster per byte. But one that hands
+// freed memory back to its host (free page reporting) zeroes a fresh 2 MiB page at a
+// quarter of the speed of 4 KiB ones. So a job whose input is at least
+// kHugePageJobBytes measures it: it touches 16 MiB of fresh memory each way, and when
+// huge pages fault in at least 1.2 times faster, it starts itself again (`argv`, main's,
+// through /proc/self/exe) with glibc.malloc.hugetlb=1 added to GLIBC_TUNABLES, read only
+// when a program starts; otherwise it adds glibc.malloc.hugetlb=0. Either way the
+// programs it starts (a benchmark's runs of mpumesh) inherit the choice.
+// - Nothing is done where GLIBC_TUNABLES already sets the tunable (the user's choice, or
+//   the restart), where /sys/kernel/mm/transparent_hugepage/enabled is not "madvise"
+//   (with "always" large mappings get huge pages anyway, with "never" none do), or
+//   without glibc.
+// - Smaller jobs skip it: the probe and the restart take about 0.1 s.
+// - MPUMESH_HUGE_PAGES=1 starts again with huge pages whatever the job and the probe;
+//   MPUMESH_HUGE_PAGES=0 never does.
+inline constexpr uint64_t kHugePageJobBytes = 16ull << 20;
+void prefer_huge_pages_if_faster(char** argv, uint64_t input_bytes);
+
+// Whether malloc asks for huge pages in this process (GLIBC_TUNABLES sets
+// glibc.malloc.hugetlb to 1 or 2).
+bool malloc_huge_pages();
+
+// Fresh memory's first-touch time as 4 KiB pages over that as 2 MiB huge pages, over
+// `bytes` each way in alternating quarters; 0 where huge pages cannot be asked for.
+double huge_page_fault_speedup(uint64_t bytes);
+
+// The bytes on disk of a file, or of the files directly in a folder (a DICOM series).
+uint64_t input_bytes(const std::string& path);
 
 // Throws InputError naming `what` when the estimate exceeds the memory available.
 void check_memory(const std::string& what, uint64_t need_bytes);

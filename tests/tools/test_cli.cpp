@@ -114,6 +114,31 @@ TEST(Cli, McWritesAClosedMeshAndJson) {
   EXPECT_GT(qj["volume_mm3"].get<double>(), 0);
 }
 
+// A run may start itself again with glibc's huge-page tunable (common/memory.h): its
+// output is the same bytes whether it does (MPUMESH_HUGE_PAGES=1) or not (=0, or the
+// tunable given), its report says which, and a failing run fails the same way after it.
+TEST(Cli, RunsTheSameWhetherItStartsAgainForHugePages) {
+  const std::string dir = test::temp_dir("hugepages");
+  const std::string ball = ball_phantom(dir);
+  std::string first;
+  for (const auto& [env, huge] : std::vector<std::pair<std::string, bool>>{
+           {"env -u GLIBC_TUNABLES MPUMESH_HUGE_PAGES=1", true},
+           {"env -u GLIBC_TUNABLES MPUMESH_HUGE_PAGES=0", false},
+           {"env GLIBC_TUNABLES=glibc.malloc.hugetlb=0 MPUMESH_HUGE_PAGES=1", false}}) {
+    const Result r = run("run " + ball + " --threshold 0 --particles 800 -o '" + dir + "/ball two.ply' --report '" + dir +
+                             "/r.json' --backend cpu --quiet",
+                         env);
+    ASSERT_EQ(r.code, 0) << env << "\n" << r.out;
+    EXPECT_EQ(nlohmann::json::parse(read_file(dir + "/r.json"))["memory"]["malloc_huge_pages"].get<bool>(), huge) << env;
+    const std::string bytes = read_file(dir + "/ball two.ply");
+    EXPECT_GT(bytes.size(), 1000u) << env;
+    if (first.empty()) first = bytes;
+    EXPECT_EQ(bytes, first) << env;
+  }
+  expect_failure("run " + dir + "/none.mha -o " + dir + "/none.ply", "none.mha", dir + "/none.ply",
+                 "env -u GLIBC_TUNABLES MPUMESH_HUGE_PAGES=1");
+}
+
 TEST(Cli, RunWritesMeshAndReport) {
   const std::string dir = test::temp_dir("run");
   const Result r = run("run " + ball_phantom(dir) + " --threshold 0 --particles 1500 -o " + dir + "/m.ply --report " + dir +

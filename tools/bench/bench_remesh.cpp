@@ -44,6 +44,7 @@ struct TempDir {
 
 int main(int argc, char** argv) {
   tune_memory();  // as mpumesh does; the peers run in this process too
+  if (argc >= 2) prefer_huge_pages_if_faster(argv, input_bytes(argv[1]));
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [cpu|gpu|auto]\n", argv[0]);
     return 2;
@@ -63,6 +64,7 @@ int main(int argc, char** argv) {
   vk::BackendChoice choice = vk::make_backend(argc > 4 ? argv[4] : "auto");
   std::printf("ours on: %s%s\n", choice.backend->device().c_str(),
               choice.note.empty() ? "" : (" (" + choice.note + ")").c_str());
+  std::printf("malloc huge pages (common/memory.h): %s, ours and the peers alike\n", malloc_huge_pages() ? "yes" : "no");
   pipeline::RunOptions ro;
   ro.sample.particles = particles;
   ro.quality.reset();  // --quiet and no report

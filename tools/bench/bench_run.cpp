@@ -151,6 +151,7 @@ void print_ratios(const TriangleMesh& ours, const std::vector<bench::Mesh3Result
 
 int main(int argc, char** argv) {
   tune_memory();  // as mpumesh does; the peers run in this process too
+  if (argc >= 2) prefer_huge_pages_if_faster(argv, input_bytes(argv[1]));
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] "
@@ -178,6 +179,7 @@ int main(int argc, char** argv) {
   vk::BackendChoice choice = vk::make_backend(argc > 6 ? argv[6] : "auto");
   std::printf("ours on: %s%s\n", choice.backend->device().c_str(),
               choice.note.empty() ? "" : (" (" + choice.note + ")").c_str());
+  std::printf("malloc huge pages (common/memory.h): %s, ours and the peers alike\n", malloc_huge_pages() ? "yes" : "no");
 
   t = Clock::now();
   const TriangleMesh mc_mesh = marching_cubes(vol, mc::ThresholdRange{iso}, cpu);
