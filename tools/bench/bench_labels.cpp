@@ -164,6 +164,7 @@ void bench_real(const Args& args, const fs::path& root) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  bench::same_memory_for_all(argv);
   const Args args = parse_args(argc, argv);
   const fs::path root = fs::temp_directory_path() / "mpumesh_bench_labels";
   fs::create_directories(root);

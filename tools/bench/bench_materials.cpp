@@ -127,6 +127,7 @@ void bench_phantom(const phantom::MaterialPhantom& m, const Args& args, const fs
 }  // namespace
 
 int main(int argc, char** argv) {
+  bench::same_memory_for_all(argv);
   const Args args = parse_args(argc, argv);
   const fs::path root = fs::temp_directory_path() / "mpumesh_bench_materials";
   fmt::print("columns: interface distance to the truth mean/p99 (mm), normal error mean/p95 and mean/p95 away "

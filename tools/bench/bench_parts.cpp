@@ -103,6 +103,7 @@ void print_row(const std::string& name, const TriangleMesh& c, const phantom::Pa
 }  // namespace
 
 int main(int argc, char** argv) {
+  bench::same_memory_for_all(argv);
   const Args args = parse_args(argc, argv);
   const fs::path dir = fs::temp_directory_path() / "mpumesh_bench_parts";
   fs::create_directories(dir);

@@ -13,13 +13,13 @@
 #include <string>
 
 #include "cgal_remesh_peer.h"
-#include "common/memory.h"
 #include "cpu/cpu_backend.h"
 #include "io/mesh_io.h"
 #include "io/volume_io.h"
 #include "mc/marching_cubes.h"
 #include "mesh_rows.h"
 #include "pipeline/run_pipeline.h"
+#include "truth_rows.h"
 #include "vulkan_backend.h"
 
 using namespace mpumesh;
@@ -43,8 +43,7 @@ struct TempDir {
 }  // namespace
 
 int main(int argc, char** argv) {
-  tune_memory();  // as mpumesh does; the peers run in this process too
-  if (argc >= 2) prefer_huge_pages_if_faster(argv, input_bytes(argv[1]));
+  bench::same_memory_for_all(argv);
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES] [cpu|gpu|auto]\n", argv[0]);
     return 2;
@@ -64,7 +63,6 @@ int main(int argc, char** argv) {
   vk::BackendChoice choice = vk::make_backend(argc > 4 ? argv[4] : "auto");
   std::printf("ours on: %s%s\n", choice.backend->device().c_str(),
               choice.note.empty() ? "" : (" (" + choice.note + ")").c_str());
-  std::printf("malloc huge pages (common/memory.h): %s, ours and the peers alike\n", malloc_huge_pages() ? "yes" : "no");
   pipeline::RunOptions ro;
   ro.sample.particles = particles;
   ro.quality.reset();  // --quiet and no report

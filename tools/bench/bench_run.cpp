@@ -32,7 +32,6 @@
 
 #include "cgal_mesh3_peer.h"
 #include "mesh_rows.h"
-#include "common/memory.h"
 #include "cpu/cpu_backend.h"
 #include "io/volume_io.h"
 #include "mc/marching_cubes.h"
@@ -40,6 +39,7 @@
 #include "mesh/quality.h"
 #include "mpu/polygonize.h"
 #include "pipeline/run_pipeline.h"
+#include "truth_rows.h"
 #include "vulkan_backend.h"
 
 using namespace mpumesh;
@@ -150,8 +150,7 @@ void print_ratios(const TriangleMesh& ours, const std::vector<bench::Mesh3Result
 }  // namespace
 
 int main(int argc, char** argv) {
-  tune_memory();  // as mpumesh does; the peers run in this process too
-  if (argc >= 2) prefer_huge_pages_if_faster(argv, input_bytes(argv[1]));
+  bench::same_memory_for_all(argv);
   if (argc < 2) {
     std::fprintf(stderr,
                  "usage: %s VOLUME [THRESHOLD] [PARTICLES] [FACET_SIZE] [FACET_DISTANCE] [cpu|gpu|auto] [ROUNDS] "
@@ -179,7 +178,6 @@ int main(int argc, char** argv) {
   vk::BackendChoice choice = vk::make_backend(argc > 6 ? argv[6] : "auto");
   std::printf("ours on: %s%s\n", choice.backend->device().c_str(),
               choice.note.empty() ? "" : (" (" + choice.note + ")").c_str());
-  std::printf("malloc huge pages (common/memory.h): %s, ours and the peers alike\n", malloc_huge_pages() ? "yes" : "no");
 
   t = Clock::now();
   const TriangleMesh mc_mesh = marching_cubes(vol, mc::ThresholdRange{iso}, cpu);

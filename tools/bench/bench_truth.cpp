@@ -33,6 +33,7 @@
 using namespace mpumesh;
 
 int main(int argc, char** argv) {
+  bench::same_memory_for_all(argv);
   const std::string backend = argc > 1 ? argv[1] : "cpu";
   std::vector<std::string> only(argv + std::min(argc, 2), argv + argc);
   const std::string bin = MPUMESH_BIN;

@@ -112,6 +112,7 @@ int materials(const std::string& backend) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  bench::same_memory_for_all(argv);
   if (argc < 2) {
     std::fprintf(stderr, "usage: %s VOLUME [THRESHOLD] [PARTICLES]\n       %s --materials [cpu|gpu|auto]\n", argv[0],
                  argv[0]);

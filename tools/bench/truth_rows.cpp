@@ -6,7 +6,15 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "common/memory.h"
+
 namespace mpumesh::bench {
+
+void same_memory_for_all(char** argv) {
+  tune_memory();
+  prefer_huge_pages_if_faster(argv, kHugePageJobBytes);
+  std::printf("malloc huge pages (common/memory.h): %s, ours and the peers alike\n", malloc_huge_pages() ? "yes" : "no");
+}
 
 double timed_system(const std::string& cmd) {
   std::fflush(nullptr);  // what is printed comes before the child's output, once

@@ -9,6 +9,12 @@
 
 namespace mpumesh::bench {
 
+// Memory for a benchmark that times our runs against its peers, called first in main:
+// malloc tuned as mpumesh tunes it (tune_memory), and the huge-page choice
+// (common/memory.h) made once here whatever the input's size, so that the peers in this
+// process and our runs, which inherit it through GLIBC_TUNABLES, all run alike. Prints it.
+void same_memory_for_all(char** argv);
+
 // Runs `cmd` through the shell; exits the benchmark when it fails. Seconds.
 double timed_system(const std::string& cmd);
 
