@@ -129,12 +129,14 @@ void prefer_huge_pages_if_faster(char** argv, uint64_t job_bytes) {
   const bool huge = forced == "1" || huge_page_fault_speedup(kHugePageProbeBytes) >= kHugePageMinSpeedup;
   // Either way the choice goes into GLIBC_TUNABLES, so that the programs this one starts
   // (a benchmark's runs of mpumesh) make the same one without a probe of their own.
-  const std::string before = tunables ? tunables : "";
-  const std::string with = before + (before.empty() ? "" : ":") + "glibc.malloc.hugetlb=" + (huge ? "1" : "0");
-  if (setenv("GLIBC_TUNABLES", with.c_str(), 1) != 0 || !huge) return;
+  const std::string before = tunables && *tunables ? std::string(tunables) + ":" : std::string();
+  const auto choose = [&](bool on) {
+    return setenv("GLIBC_TUNABLES", (before + "glibc.malloc.hugetlb=" + (on ? "1" : "0")).c_str(), 1) == 0;
+  };
+  if (!choose(huge) || !huge) return;
   std::fflush(nullptr);
   execv("/proc/self/exe", argv);  // returns only on failure: the run goes on as it is
-  setenv("GLIBC_TUNABLES", (before + (before.empty() ? "" : ":") + "glibc.malloc.hugetlb=0").c_str(), 1);
+  choose(false);
 #else
   (void)argv, (void)job_bytes;
 #endif

@@ -1,6 +1,6 @@
-// The truth benchmarks' shared parts: a product command timed as a user runs it, and the
-// table of figures against the analytic truth (core/phantom/truth_figures.h), one row per
-// mesh.
+// The benchmarks' shared parts: the memory set-up every benchmark that times peers makes,
+// a product command timed as a user runs it, and the truth benchmarks' table of figures
+// against the analytic truth (core/phantom/truth_figures.h), one row per mesh.
 #pragma once
 
 #include <string>
